@@ -1,0 +1,120 @@
+#pragma once
+// Linear spring-dashpot contact with Coulomb friction and elastic-plastic rolling resistance.
+//
+// Sub-models, called in this order by evaluate_contact (as LAMMPS GranularModel does):
+//   1. normal:     Fn = max(0, kn d - cn vn),  cn = 2 beta_n sqrt(m_eff kn)          [N]
+//                  d overlap [m], vn = (v_b - v_a).n [m/s] (positive when separating);
+//                  never tensile: the dashpot cannot pull (Hertz-free linear model).
+//   2. tangential: Fs <- rotate(Fs) - ks vt dt,  |Fs| <= mu Fn                      [N]
+//                  incremental spring; history turns with the contact frame.
+//   3. rolling:    Mr <- rotate(Mr) - kr w_roll dt,  kr = ks Rbar^2,  |Mr| <= mu_r Rbar Fn [N m]
+//                  Rbar = Ra Rb / (Ra + Rb) (= Ra against a wall); Ai, Pan, Ooi & Rahman (2011),
+//                  "Assessment of rolling resistance models in DEM", Powder Technol. 206, 269-282,
+//                  doi:10.1016/j.powtec.2010.09.030, model type C (PFC rrlinear) without the
+//                  rolling dashpot.
+// The normal model supplies the Coulomb limits mu Fn and mu_r Rbar Fn to the others.
+// Conventions: n points from body a to body b; results are the force and moment acting on b;
+// a receives the opposite force and moment (plus its own lever-arm torque).
+#include <cmath>
+
+#include "dem/material.hpp"
+#include "dem/types.hpp"
+
+namespace mfdem::dem {
+
+// Geometry and kinematics of one contact, computed by the caller.
+struct ContactGeometry {
+  double overlap = 0.0;         // d > 0, m
+  Vec3 normal = Vec3::UnitZ();  // unit, from a to b
+  Vec3 relative_velocity;       // velocity of b's surface minus a's at the contact point, m/s
+  Vec3 relative_spin;           // omega_b - omega_a, rad/s
+  double frame_spin = 0.0;      // (omega_a + omega_b)/2 . n: how fast the contact frame turns
+                                // about the normal, rad/s
+  double effective_mass = 0.0;  // m_a m_b / (m_a + m_b), kg (m_a against a wall)
+  double rolling_radius = 0.0;  // Rbar, m
+};
+
+// Springs carried from step to step.
+struct ContactHistory {
+  Vec3 shear_force = Vec3::Zero();     // Fs on b, N
+  Vec3 rolling_moment = Vec3::Zero();  // Mr on b, N m
+};
+
+struct ContactOutcome {
+  Vec3 force = Vec3::Zero();           // total contact force on b, N
+  Vec3 rolling_moment = Vec3::Zero();  // moment on b from rolling resistance, N m
+  double normal_force = 0.0;           // Fn >= 0, N
+  // Energy dissipated during this step, J.
+  double dissipated_damping = 0.0;
+  double dissipated_friction = 0.0;    // sliding and rolling slip
+};
+
+// --- stateless kernels --------------------------------------------------------------------
+
+inline double damping_coefficient(double damping_ratio, double effective_mass, double kn) {
+  return 2.0 * damping_ratio * std::sqrt(effective_mass * kn);
+}
+
+// Normal force magnitude; never tensile.
+inline double normal_force(double kn, double cn, double overlap, double normal_velocity) {
+  return std::max(0.0, kn * overlap - cn * normal_velocity);
+}
+
+// Carries a tangential vector (spring force or moment) from the previous contact frame to the
+// current one: drop the component along the new normal, turn it about the normal by the pair's
+// mean spin, and keep its magnitude (so a rigidly rotated contact keeps its force).
+inline Vec3 rotate_to_frame(const Vec3& v, const Vec3& normal, double spin_about_normal,
+                            double dt) {
+  const double magnitude2 = v.squaredNorm();
+  if (magnitude2 == 0.0) return v;
+  Vec3 t = v - v.dot(normal) * normal;
+  t += (spin_about_normal * dt) * normal.cross(t);
+  const double t2 = t.squaredNorm();
+  if (t2 == 0.0) return Vec3::Zero();
+  return t * std::sqrt(magnitude2 / t2);
+}
+
+// Elastic-plastic spring update: increment, then cap at `limit`. Returns the energy dissipated
+// by the slip (capped force times slip distance), J.
+inline double spring_with_slip(Vec3& spring, const Vec3& rate, double stiffness, double dt,
+                               double limit) {
+  spring -= (stiffness * dt) * rate;
+  const double magnitude = spring.norm();
+  if (magnitude <= limit || magnitude == 0.0) return 0.0;
+  const double slip = (magnitude - limit) / stiffness;
+  spring *= limit / magnitude;
+  return limit * slip;
+}
+
+// --- the composed law ---------------------------------------------------------------------
+
+inline ContactOutcome evaluate_contact(const PairParameters& p, const ContactGeometry& g,
+                                       ContactHistory& history, double dt) {
+  ContactOutcome out;
+  const Vec3& n = g.normal;
+  const double vn = g.relative_velocity.dot(n);
+  const double cn = damping_coefficient(p.damping_ratio, g.effective_mass, p.normal_stiffness);
+  const double elastic = p.normal_stiffness * g.overlap;
+  const double fn = normal_force(p.normal_stiffness, cn, g.overlap, vn);
+  out.normal_force = fn;
+  // Work of the dashpot: the part of Fn beyond the spring times the approach speed.
+  out.dissipated_damping = (elastic - fn) * vn * dt;
+
+  const Vec3 vt = g.relative_velocity - vn * n;
+  history.shear_force = rotate_to_frame(history.shear_force, n, g.frame_spin, dt);
+  out.dissipated_friction =
+      spring_with_slip(history.shear_force, vt, p.shear_stiffness, dt, p.friction * fn);
+
+  if (p.rolling_friction > 0.0) {
+    const double kr = p.shear_stiffness * g.rolling_radius * g.rolling_radius;
+    const Vec3 w_roll = g.relative_spin - g.relative_spin.dot(n) * n;
+    history.rolling_moment = rotate_to_frame(history.rolling_moment, n, g.frame_spin, dt);
+    out.dissipated_friction += spring_with_slip(history.rolling_moment, w_roll, kr, dt,
+                                                p.rolling_friction * g.rolling_radius * fn);
+    out.rolling_moment = history.rolling_moment;
+  }
+  out.force = fn * n + history.shear_force;
+  return out;
+}
+
+}  // namespace mfdem::dem

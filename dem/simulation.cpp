@@ -1,0 +1,483 @@
+#include "dem/simulation.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "dem/chunked.hpp"
+#include "dem/time_step.hpp"
+
+namespace mfdem::dem {
+namespace {
+
+// 2/5: moment of inertia of a solid sphere is (2/5) m R^2.
+constexpr double kSphereInertiaFactor = 0.4;
+constexpr double kPi = 3.14159265358979323846;
+
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+}  // namespace
+
+Simulation::Simulation(Domain domain, MaterialTable materials, SimulationSettings settings)
+    : domain_(std::move(domain)), materials_(std::move(materials)), settings_(settings) {
+  bodies_.first_element.push_back(0);
+}
+
+Index Simulation::add_sphere(const SphereSpec& s) {
+  if (prepared_) throw std::logic_error("add_sphere after prepare()");
+  if (s.material < 0 || s.material >= materials_.size())
+    throw std::invalid_argument(fmt::format("sphere material index {} is not defined", s.material));
+  if (!(s.radius > 0.0))
+    throw std::invalid_argument(fmt::format("sphere radius must be > 0 m (got {})", s.radius));
+  const Material& m = materials_[s.material];
+  const double mass = m.density * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+  const double inertia = kSphereInertiaFactor * mass * s.radius * s.radius;
+  const Index b = bodies_.size();
+  bodies_.position.push_back(s.position);
+  bodies_.velocity.push_back(s.velocity);
+  bodies_.angular_velocity.push_back(s.angular_velocity);
+  bodies_.orientation.push_back(Quat::Identity());
+  bodies_.mass.push_back(mass);
+  bodies_.inertia.push_back(Vec3::Constant(inertia));
+  bodies_.local_damping.push_back(m.local_damping);
+  bodies_.force.push_back(Vec3::Zero());
+  bodies_.torque.push_back(Vec3::Zero());
+  elements_.position.push_back(s.position);
+  elements_.offset.push_back(Vec3::Zero());
+  elements_.radius.push_back(s.radius);
+  elements_.material.push_back(s.material);
+  elements_.body.push_back(b);
+  bodies_.first_element.push_back(elements_.size());
+  wrap_total_.push_back(Vec3::Zero());
+  return b;
+}
+
+int Simulation::add_wall(const PlaneWall& wall) {
+  if (prepared_) throw std::logic_error("add_wall after prepare()");
+  if (wall.material < 0 || wall.material >= materials_.size())
+    throw std::invalid_argument(fmt::format("wall '{}' material index {} is not defined",
+                                            wall.name, wall.material));
+  PlaneWall w = wall;
+  const double norm = w.normal.norm();
+  if (!(norm > 0.0)) throw std::invalid_argument("wall '" + w.name + "' has a zero normal");
+  w.normal /= norm;
+  walls_.push_back(w);
+  return static_cast<int>(walls_.size()) - 1;
+}
+
+void Simulation::prepare() {
+  limit_ = critical_time_step(bodies_, elements_, materials_, walls_);
+  const double given = settings_.time_step;
+  if (given > 0.0) {
+    if (given > limit_.limit && !settings_.force_time_step)
+      throw std::invalid_argument(fmt::format(
+          "time step {:.4g} s is above the stability limit {:.4g} s set by the {}; use a step "
+          "<= {:.4g} s (automatic: {:.2g} x limit = {:.4g} s) or force it",
+          given, limit_.limit, limit_.reason, limit_.limit, settings_.time_step_safety,
+          settings_.time_step_safety * limit_.limit));
+    dt_ = given;
+  } else {
+    if (!std::isfinite(limit_.limit))
+      throw std::invalid_argument("automatic time step: no contact can occur; give time_step");
+    dt_ = settings_.time_step_safety * limit_.limit;
+  }
+  double min_radius = std::numeric_limits<double>::infinity();
+  for (double r : elements_.radius) min_radius = std::min(min_radius, r);
+  skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
+
+  const Index ne = elements_.size();
+  const std::size_t nw = walls_.size();
+  wall_history_.assign(ne * nw, ContactHistory{});
+  wall_force_.assign(nw, Vec3::Zero());
+  chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
+  prepared_ = true;
+  for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
+  rebuild();
+  evaluate_pairs();
+  gather_and_kick_ = false;
+  gather_and_kick();
+  gather_and_kick_ = true;
+
+  const EnergyReport e = energy();
+  energy_reference_ = e.total();
+  double weight = 0.0;
+  for (double m : bodies_.mass) weight += m * settings_.gravity.norm();
+  const Vec3 extent = domain_.length();
+  const Vec3 g_dir = settings_.gravity.norm() > 0 ? Vec3(settings_.gravity.normalized()) : Vec3::Zero();
+  const double height = std::abs(extent[0] * g_dir[0]) + std::abs(extent[1] * g_dir[1]) +
+                        std::abs(extent[2] * g_dir[2]);
+  energy_scale_ = weight * height + e.kinetic() + e.elastic;
+  last_good_ = Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
+                        bodies_.angular_velocity};
+}
+
+void Simulation::update_element_positions(Index b) {
+  const Index end = bodies_.element_end(b);
+  for (Index e = bodies_.element_begin(b); e < end; ++e)
+    elements_.position[e] = bodies_.position[b] + bodies_.orientation[b] * elements_.offset[e];
+}
+
+void Simulation::step() {
+  if (!prepared_) throw std::logic_error("Simulation::step before prepare()");
+  drift_and_kick();
+  maybe_rebuild();
+  evaluate_pairs();
+  gather_and_kick();
+  time_ += dt_;
+  ++step_count_;
+  for (auto& w : walls_) w.point += dt_ * w.velocity;
+  if (step_count_ % settings_.guards.check_interval == 0) check_stability();
+}
+
+void Simulation::drift_and_kick() {
+  const Index nb = bodies_.size();
+  const double half = 0.5 * dt_;
+  double max_move2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : max_move2)
+  for (Index b = 0; b < nb; ++b) {
+    const double inv_m = 1.0 / bodies_.mass[b];
+    bodies_.velocity[b] += (half * inv_m) * bodies_.force[b];
+    bodies_.angular_velocity[b] += half * bodies_.torque[b].cwiseQuotient(bodies_.inertia[b]);
+    bodies_.position[b] += dt_ * bodies_.velocity[b];
+    update_element_positions(b);
+    const Index end = bodies_.element_end(b);
+    for (Index e = bodies_.element_begin(b); e < end; ++e)
+      max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+  }
+  max_move2_ = max_move2;
+}
+
+void Simulation::maybe_rebuild() {
+  if (4.0 * max_move2_ > skin_ * skin_) rebuild();
+}
+
+void Simulation::rebuild() {
+  // Wrap bodies that left the periodic box, then rebuild and carry the springs over.
+  for (Index b = 0; b < bodies_.size(); ++b) {
+    const Vec3 shift = domain_.wrap_shift(bodies_.position[b]);
+    if (shift.isZero()) continue;
+    bodies_.position[b] += shift;
+    wrap_total_[b] += shift;
+    update_element_positions(b);
+  }
+  PairList fresh = build_pair_list(elements_, domain_, skin_);
+  std::vector<ContactHistory> history(fresh.size());
+  const Index n = fresh.size();
+  const bool had_list = !pairs_.row_start.empty();
+  // Images are relative to the positions of this build; a wrapped body shifts its images.
+#pragma omp parallel for schedule(static)
+  for (Index p = 0; p < n; ++p) {
+    if (!had_list) continue;
+    const Index i = fresh.first[p], j = fresh.second[p];
+    for (Index q = pairs_.row_start[i]; q < pairs_.row_start[i + 1]; ++q) {
+      if (pairs_.second[q] != j || !pair_active_[q]) continue;
+      history[p] = pair_history_[q];
+      break;
+    }
+  }
+  pairs_ = std::move(fresh);
+  pair_history_ = std::move(history);
+  pair_force_.assign(n, Vec3::Zero());
+  pair_torque_first_.assign(n, Vec3::Zero());
+  pair_torque_second_.assign(n, Vec3::Zero());
+  pair_active_.assign(n, 0);
+  build_position_ = elements_.position;
+  ++rebuilds_;
+}
+
+void Simulation::evaluate_pairs() {
+  const Index np = pairs_.size();
+  const Index chunks = chunk_count(np);
+  pair_chunk_energy_.assign(chunks, ChunkEnergy{});
+  const Vec3 length = domain_.length();
+  const double dt = dt_;
+  const double overlap_limit = settings_.guards.max_overlap_fraction;
+#pragma omp parallel for schedule(static)
+  for (Index c = 0; c < chunks; ++c) {
+    ChunkEnergy acc;
+    const Index end = chunk_end(c, np);
+    for (Index p = chunk_begin(c); p < end; ++p) {
+      const Index i = pairs_.first[p], j = pairs_.second[p];
+      const double ri = elements_.radius[i], rj = elements_.radius[j];
+      const Vec3 xi = elements_.position[i];
+      const Vec3 xj = elements_.position[j] + image_shift(pairs_.image[p], length);
+      const Vec3 d = xj - xi;
+      const double reach = ri + rj;
+      const double r2 = d.squaredNorm();
+      if (r2 >= reach * reach) {
+        if (pair_active_[p]) {
+          pair_active_[p] = 0;
+          pair_history_[p] = ContactHistory{};
+        }
+        continue;
+      }
+      pair_active_[p] = 1;
+      const double r = std::sqrt(r2);
+      ContactGeometry g;
+      g.normal = d / r;
+      g.overlap = reach - r;
+      if (g.overlap > overlap_limit * std::min(ri, rj) && acc.bad_pair < 0) acc.bad_pair = p;
+      const Index bi = elements_.body[i], bj = elements_.body[j];
+      const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
+      const Vec3 arm_j = -(rj - 0.5 * g.overlap) * g.normal;
+      const Vec3& wi = bodies_.angular_velocity[bi];
+      const Vec3& wj = bodies_.angular_velocity[bj];
+      const Vec3 vi = bodies_.velocity[bi] + wi.cross(elements_.position[i] - bodies_.position[bi] + arm_i);
+      const Vec3 vj = bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] + arm_j);
+      g.relative_velocity = vj - vi;
+      g.relative_spin = wj - wi;
+      g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
+      const double mi = bodies_.mass[bi], mj = bodies_.mass[bj];
+      g.effective_mass = mi * mj / (mi + mj);
+      g.rolling_radius = ri * rj / reach;
+      const ContactOutcome out = evaluate_contact(
+          materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
+      pair_force_[p] = out.force;
+      pair_torque_first_[p] = -arm_i.cross(out.force) - out.rolling_moment;
+      pair_torque_second_[p] = arm_j.cross(out.force) + out.rolling_moment;
+      acc.damping += out.dissipated_damping;
+      acc.friction += out.dissipated_friction;
+    }
+    pair_chunk_energy_[c] = acc;
+  }
+  for (const auto& acc : pair_chunk_energy_) {
+    dissipated_damping_ += acc.damping;
+    dissipated_friction_ += acc.friction;
+    if (acc.bad_pair >= 0) {
+      const Index p = acc.bad_pair;
+      const Index i = pairs_.first[p], j = pairs_.second[p];
+      fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
+                       "(stiffness too low for the load, or time step too large)",
+                       elements_.body[i], elements_.body[j], overlap_limit),
+           elements_.body[i]);
+    }
+  }
+}
+
+void Simulation::gather_and_kick() {
+  const Index nb = bodies_.size();
+  const Index chunks = chunk_count(nb);
+  const std::size_t nw = walls_.size();
+  body_chunk_energy_.assign(chunks, ChunkEnergy{});
+  chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
+  const double dt = dt_;
+  const double half = 0.5 * dt_;
+  const bool kick = gather_and_kick_;
+  const Vec3 gravity = settings_.gravity;
+  const double overlap_limit = settings_.guards.max_overlap_fraction;
+#pragma omp parallel for schedule(static)
+  for (Index c = 0; c < chunks; ++c) {
+    ChunkEnergy acc;
+    Vec3* wall_sum = nw ? &chunk_wall_force_[c * nw] : nullptr;
+    const Index end = chunk_end(c, nb);
+    for (Index b = chunk_begin(c); b < end; ++b) {
+      const double mass = bodies_.mass[b];
+      const Vec3& xb = bodies_.position[b];
+      const Vec3& vb = bodies_.velocity[b];
+      const Vec3& wb = bodies_.angular_velocity[b];
+      Vec3 force = mass * gravity;
+      Vec3 torque = Vec3::Zero();
+      const Index e_end = bodies_.element_end(b);
+      for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
+        Vec3 fe = Vec3::Zero();
+        Vec3 te = Vec3::Zero();
+        for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) {
+          if (!pair_active_[p]) continue;
+          fe -= pair_force_[p];
+          te += pair_torque_first_[p];
+        }
+        for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
+          const Index p = pairs_.as_second_pair[k];
+          if (!pair_active_[p]) continue;
+          fe += pair_force_[p];
+          te += pair_torque_second_[p];
+        }
+        const double re = elements_.radius[e];
+        const Vec3& xe = elements_.position[e];
+        for (std::size_t w = 0; w < nw; ++w) {
+          const PlaneWall& wall = walls_[w];
+          ContactHistory& history = wall_history_[e * nw + w];
+          const double gap = (xe - wall.point).dot(wall.normal);
+          if (gap >= re) {
+            history = ContactHistory{};
+            continue;
+          }
+          // The wall is body a, the element body b: n points from the wall into the domain.
+          ContactGeometry g;
+          g.normal = wall.normal;
+          g.overlap = re - gap;
+          if (g.overlap > overlap_limit * re && acc.bad_body < 0) acc.bad_body = b;
+          const Vec3 arm = -(re - 0.5 * g.overlap) * g.normal;
+          g.relative_velocity = vb + wb.cross(xe - xb + arm) - wall.velocity;
+          g.relative_spin = wb;
+          g.frame_spin = 0.0;  // the wall fixes the contact frame
+          g.effective_mass = mass;
+          g.rolling_radius = re;
+          const ContactOutcome out = evaluate_contact(
+              materials_.pair(wall.material, elements_.material[e]), g, history, dt);
+          fe += out.force;
+          te += arm.cross(out.force) + out.rolling_moment;
+          wall_sum[w] -= out.force;
+          acc.damping += out.dissipated_damping;
+          acc.friction += out.dissipated_friction;
+          acc.wall_work += out.force.dot(wall.velocity) * dt;
+        }
+        force += fe;
+        torque += te + (xe - xb).cross(fe);
+      }
+      // PFC local damping: each component of force and moment loses alpha |F| against the
+      // motion.
+      const double alpha = bodies_.local_damping[b];
+      if (alpha > 0.0) {
+        for (int a = 0; a < 3; ++a) {
+          const double df = alpha * std::abs(force[a]) * (vb[a] > 0 ? 1.0 : vb[a] < 0 ? -1.0 : 0.0);
+          force[a] -= df;
+          acc.local += df * vb[a] * dt;
+          const double dm = alpha * std::abs(torque[a]) * (wb[a] > 0 ? 1.0 : wb[a] < 0 ? -1.0 : 0.0);
+          torque[a] -= dm;
+          acc.local += dm * wb[a] * dt;
+        }
+      }
+      bodies_.force[b] = force;
+      bodies_.torque[b] = torque;
+      if (kick) {
+        bodies_.velocity[b] += (half / mass) * force;
+        bodies_.angular_velocity[b] += half * torque.cwiseQuotient(bodies_.inertia[b]);
+      }
+      if (acc.bad_body < 0 && !(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
+                                finite(bodies_.angular_velocity[b])))
+        acc.bad_body = b;
+    }
+    body_chunk_energy_[c] = acc;
+  }
+  for (std::size_t w = 0; w < nw; ++w) {
+    Vec3 sum = Vec3::Zero();
+    for (Index c = 0; c < chunks; ++c) sum += chunk_wall_force_[c * nw + w];
+    wall_force_[w] = sum;
+  }
+  for (const auto& acc : body_chunk_energy_) {
+    dissipated_damping_ += acc.damping;
+    dissipated_friction_ += acc.friction;
+    dissipated_local_ += acc.local;
+    work_by_walls_ += acc.wall_work;
+    if (acc.bad_body >= 0) {
+      const Index b = acc.bad_body;
+      if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
+            finite(bodies_.angular_velocity[b])))
+        fail(fmt::format("body {} has a non-finite position or velocity", b), b);
+      fail(fmt::format("body {} overlaps a wall by more than {} of its radius", b, overlap_limit), b);
+    }
+  }
+}
+
+void Simulation::check_stability() {
+  const EnergyReport e = energy();
+  energy_scale_ = std::max(energy_scale_, e.kinetic() + e.elastic);
+  const double growth = e.total() - energy_reference_;
+  if (growth > settings_.guards.energy_growth * energy_scale_) {
+    // Name the fastest body: that is where the blow-up is.
+    Index fastest = 0;
+    double vmax = -1.0;
+    for (Index b = 0; b < bodies_.size(); ++b) {
+      const double v = bodies_.velocity[b].squaredNorm();
+      if (v > vmax) vmax = v, fastest = b;
+    }
+    fail(fmt::format("energy grew by {:.4g} J with no work put in (allowed {:.4g} J); fastest is "
+                     "body {} at {:.4g} m/s: the time step is too large for the stiffest "
+                     "contact",
+                     growth, settings_.guards.energy_growth * energy_scale_, fastest,
+                     std::sqrt(vmax)),
+         fastest);
+  }
+  last_good_ = Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
+                        bodies_.angular_velocity};
+}
+
+void Simulation::fail(const std::string& what, Index body) const {
+  throw StabilityError(fmt::format("unstable run at t = {:.6g} s (step {}), body {}: {}. The "
+                                   "last good state (t = {:.6g} s) is kept.",
+                                   time_ + dt_, step_count_ + 1, body, what,
+                                   last_good_ ? last_good_->time : 0.0));
+}
+
+EnergyReport Simulation::energy() const {
+  EnergyReport r;
+  const Index nb = bodies_.size();
+  for (Index b = 0; b < nb; ++b) {
+    const double m = bodies_.mass[b];
+    r.kinetic_translational += 0.5 * m * bodies_.velocity[b].squaredNorm();
+    const Vec3 w_body = bodies_.orientation[b].conjugate() * bodies_.angular_velocity[b];
+    r.kinetic_rotational += 0.5 * w_body.dot(bodies_.inertia[b].cwiseProduct(w_body));
+    r.gravitational -= m * settings_.gravity.dot(bodies_.position[b] - wrap_total_[b]);
+  }
+  const Vec3 length = domain_.length();
+  for (Index p = 0; p < pairs_.size(); ++p) {
+    if (!pair_active_[p]) continue;
+    const Index i = pairs_.first[p], j = pairs_.second[p];
+    const Vec3 d = elements_.position[j] + image_shift(pairs_.image[p], length) - elements_.position[i];
+    const double overlap = elements_.radius[i] + elements_.radius[j] - d.norm();
+    const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
+    const double rbar = elements_.radius[i] * elements_.radius[j] /
+                        (elements_.radius[i] + elements_.radius[j]);
+    r.elastic += 0.5 * pp.normal_stiffness * std::max(0.0, overlap) * std::max(0.0, overlap);
+    r.elastic += pair_history_[p].shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+    if (pp.rolling_friction > 0.0)
+      r.elastic += pair_history_[p].rolling_moment.squaredNorm() /
+                   (2.0 * pp.shear_stiffness * rbar * rbar);
+  }
+  const std::size_t nw = walls_.size();
+  for (Index e = 0; e < elements_.size(); ++e) {
+    for (std::size_t w = 0; w < nw; ++w) {
+      const PlaneWall& wall = walls_[w];
+      const double overlap = elements_.radius[e] - (elements_.position[e] - wall.point).dot(wall.normal);
+      if (overlap <= 0.0) continue;
+      const PairParameters& pp = materials_.pair(wall.material, elements_.material[e]);
+      const ContactHistory& h = wall_history_[e * nw + w];
+      const double re = elements_.radius[e];
+      r.elastic += 0.5 * pp.normal_stiffness * overlap * overlap;
+      r.elastic += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+      if (pp.rolling_friction > 0.0)
+        r.elastic += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
+    }
+  }
+  r.dissipated_damping = dissipated_damping_;
+  r.dissipated_friction = dissipated_friction_;
+  r.dissipated_local = dissipated_local_;
+  r.work_by_walls = work_by_walls_;
+  return r;
+}
+
+Index Simulation::active_contact_count() const {
+  Index n = 0;
+  for (auto a : pair_active_) n += a;
+  const std::size_t nw = walls_.size();
+  for (Index e = 0; e < elements_.size(); ++e)
+    for (std::size_t w = 0; w < nw; ++w)
+      if (elements_.radius[e] > (elements_.position[e] - walls_[w].point).dot(walls_[w].normal)) ++n;
+  return n;
+}
+
+std::vector<ContactRecord> Simulation::contacts() const {
+  std::vector<ContactRecord> out;
+  const Vec3 length = domain_.length();
+  for (Index p = 0; p < pairs_.size(); ++p) {
+    if (!pair_active_[p]) continue;
+    const Index i = pairs_.first[p], j = pairs_.second[p];
+    const Vec3 d = elements_.position[j] + image_shift(pairs_.image[p], length) - elements_.position[i];
+    const double r = d.norm();
+    const double overlap = elements_.radius[i] + elements_.radius[j] - r;
+    ContactRecord c;
+    c.body_a = elements_.body[i];
+    c.body_b = elements_.body[j];
+    c.point = elements_.position[i] + (elements_.radius[i] - 0.5 * overlap) * (d / r);
+    c.force = pair_force_[p];
+    c.overlap = overlap;
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace mfdem::dem

@@ -1,0 +1,167 @@
+#pragma once
+// The DEM solver for spheres (and, through the body/element split, rigid clumps) and walls.
+//
+// One step is velocity Verlet (as LAMMPS fix nve/sphere):
+//   1. half kick and drift of every body; element positions follow their body;
+//   2. neighbour list rebuilt when an element has moved more than skin/2;
+//   3. pair contacts evaluated in parallel, each writing only its own slot;
+//   4. per body, in parallel: the body's contact forces summed in a fixed order, wall contacts,
+//      gravity and local damping; second half kick.
+// Every floating-point sum has an order that does not depend on the thread count, so 1 and 2
+// threads give bitwise identical trajectories.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dem/bodies.hpp"
+#include "dem/contact_law.hpp"
+#include "dem/domain.hpp"
+#include "dem/material.hpp"
+#include "dem/neighbor_list.hpp"
+#include "dem/stability.hpp"
+#include "dem/time_step.hpp"
+#include "dem/wall.hpp"
+
+namespace mfdem::dem {
+
+struct SimulationSettings {
+  double time_step = 0.0;          // s; 0 selects the automatic step
+  double time_step_safety = 0.2;   // automatic step = safety x critical step
+  bool force_time_step = false;    // accept a given step above the critical one
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
+  double skin = 0.0;               // m; 0 selects 0.2 x the smallest radius
+  GuardSettings guards;
+};
+
+struct SphereSpec {
+  Vec3 position = Vec3::Zero();
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+  double radius = 0.01;
+  int material = 0;
+};
+
+// Energy account, J. With no damping, friction or work, `total()` is conserved.
+struct EnergyReport {
+  double kinetic_translational = 0.0;
+  double kinetic_rotational = 0.0;
+  double gravitational = 0.0;        // -sum m g.x (unwrapped positions)
+  double elastic = 0.0;              // springs of all contacts
+  double dissipated_damping = 0.0;   // viscous contact damping, cumulative
+  double dissipated_friction = 0.0;  // sliding and rolling slip, cumulative
+  double dissipated_local = 0.0;     // local (non-viscous) damping, cumulative
+  double work_by_walls = 0.0;        // work done on the bodies by moving walls, cumulative
+
+  double kinetic() const { return kinetic_translational + kinetic_rotational; }
+  double dissipated() const { return dissipated_damping + dissipated_friction + dissipated_local; }
+  // Conserved: mechanical energy plus everything dissipated minus the work put in.
+  double total() const { return kinetic() + gravitational + elastic + dissipated() - work_by_walls; }
+};
+
+// One active contact, for output and metrics.
+struct ContactRecord {
+  Index body_a = -1, body_b = -1;  // body_b = -1 - wall index for a wall contact
+  Vec3 point = Vec3::Zero();
+  Vec3 force = Vec3::Zero();       // on b (on the wall for a wall contact)
+  double overlap = 0.0;
+};
+
+class Simulation {
+ public:
+  Simulation(Domain domain, MaterialTable materials, SimulationSettings settings);
+
+  Index add_sphere(const SphereSpec& sphere);
+  int add_wall(const PlaneWall& wall);
+
+  // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
+  // list and evaluates the first forces. Call after adding bodies and walls.
+  void prepare();
+  // Advances one step; throws StabilityError when a guard trips (the last good state is kept,
+  // see last_good_state()).
+  void step();
+
+  double time() const { return time_; }
+  std::int64_t step_count() const { return step_count_; }
+  double time_step() const { return dt_; }
+  const TimeStepLimit& time_step_limit() const { return limit_; }
+
+  const Bodies& bodies() const { return bodies_; }
+  Bodies& mutable_bodies() { return bodies_; }
+  const Elements& elements() const { return elements_; }
+  const std::vector<PlaneWall>& walls() const { return walls_; }
+  std::vector<PlaneWall>& mutable_walls() { return walls_; }
+  const MaterialTable& materials() const { return materials_; }
+  const Domain& domain() const { return domain_; }
+  const SimulationSettings& settings() const { return settings_; }
+
+  // Force the elements exert on wall w during the last step, N.
+  const Vec3& wall_force(int w) const { return wall_force_[w]; }
+  EnergyReport energy() const;
+  std::vector<ContactRecord> contacts() const;
+  Index active_contact_count() const;
+  std::int64_t neighbour_rebuilds() const { return rebuilds_; }
+
+  // State at the last passed stability check (positions, velocities), kept for output when a
+  // guard trips.
+  struct Snapshot {
+    double time = 0.0;
+    std::int64_t step = 0;
+    std::vector<Vec3> position, velocity, angular_velocity;
+  };
+  const std::optional<Snapshot>& last_good_state() const { return last_good_; }
+
+ private:
+  void drift_and_kick();
+  void maybe_rebuild();
+  void rebuild();
+  void evaluate_pairs();
+  void gather_and_kick();
+  void check_stability();
+  void update_element_positions(Index b);
+  void fail(const std::string& what, Index body) const;
+
+  Domain domain_;
+  MaterialTable materials_;
+  SimulationSettings settings_;
+  Bodies bodies_;
+  Elements elements_;
+  std::vector<PlaneWall> walls_;
+  std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
+
+  PairList pairs_;
+  std::vector<ContactHistory> pair_history_;
+  std::vector<Vec3> pair_force_;         // on second
+  std::vector<Vec3> pair_torque_first_;  // about the first element's centre
+  std::vector<Vec3> pair_torque_second_;
+  std::vector<std::uint8_t> pair_active_;
+  std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
+  std::vector<Vec3> build_position_;          // element positions at the last build
+  double skin_ = 0.0;
+
+  std::vector<Vec3> wall_force_;
+  std::vector<Vec3> chunk_wall_force_;  // [chunk * walls + wall]
+  struct ChunkEnergy {
+    double damping = 0.0, friction = 0.0, local = 0.0, wall_work = 0.0;
+    Index bad_body = -1;
+    Index bad_pair = -1;
+  };
+  std::vector<ChunkEnergy> pair_chunk_energy_, body_chunk_energy_;
+  double max_move2_ = 0.0;
+  bool gather_and_kick_ = true;  // false only for the first force evaluation
+
+  double dt_ = 0.0;
+  TimeStepLimit limit_;
+  double time_ = 0.0;
+  std::int64_t step_count_ = 0;
+  std::int64_t rebuilds_ = 0;
+  bool prepared_ = false;
+
+  double dissipated_damping_ = 0.0, dissipated_friction_ = 0.0, dissipated_local_ = 0.0;
+  double work_by_walls_ = 0.0;
+  double energy_reference_ = 0.0;
+  double energy_scale_ = 0.0;
+  std::optional<Snapshot> last_good_;
+};
+
+}  // namespace mfdem::dem

@@ -1,0 +1,339 @@
+#include "dem/state_file.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <fstream>
+#include <stdexcept>
+
+namespace mfdem::dem {
+namespace {
+
+std::string frame_name(int frame) { return fmt::format("frames/{:06d}", frame); }
+
+void check(herr_t status, const std::string& what) {
+  if (status < 0) throw std::runtime_error("HDF5 error while " + what);
+}
+
+void write_doubles(hid_t loc, const std::string& name, const double* data, hsize_t rows,
+                   hsize_t cols) {
+  hsize_t dims[2] = {rows, cols};
+  const hid_t space = H5Screate_simple(cols ? 2 : 1, dims, nullptr);
+  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT);
+  if (set < 0) throw std::runtime_error("HDF5: cannot create dataset " + name);
+  if (rows) check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing " + name);
+  H5Dclose(set);
+  H5Sclose(space);
+}
+
+void write_vec3s(hid_t loc, const std::string& name, const std::vector<Vec3>& v) {
+  std::vector<double> flat(v.size() * 3);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (int a = 0; a < 3; ++a) flat[3 * i + a] = v[i][a];
+  write_doubles(loc, name, flat.data(), v.size(), 3);
+}
+
+void write_ints(hid_t loc, const std::string& name, const std::vector<Index>& v) {
+  hsize_t dims[1] = {v.size()};
+  const hid_t space = H5Screate_simple(1, dims, nullptr);
+  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_STD_I32LE, space, H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT);
+  if (!v.empty()) check(H5Dwrite(set, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "writing " + name);
+  H5Dclose(set);
+  H5Sclose(space);
+}
+
+void write_attribute(hid_t loc, const std::string& name, double value) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(loc, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(attr);
+  H5Sclose(space);
+}
+
+void write_attribute(hid_t loc, const std::string& name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, type, value.c_str());
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+void write_attribute(hid_t loc, const std::string& name, const std::vector<std::string>& values) {
+  std::string joined;
+  for (std::size_t i = 0; i < values.size(); ++i) joined += (i ? "," : "") + values[i];
+  write_attribute(loc, name, joined);
+}
+
+// Appends one row to an extendable dataset of shape [n, width] (width 0: 1-D).
+void append_row(hid_t file, const std::string& name, const double* row, hsize_t width) {
+  const int rank = width ? 2 : 1;
+  hid_t set;
+  hsize_t old_rows = 0;
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0) {
+    set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Dget_space(set);
+    hsize_t dims[2];
+    H5Sget_simple_extent_dims(space, dims, nullptr);
+    old_rows = dims[0];
+    H5Sclose(space);
+    hsize_t grown[2] = {old_rows + 1, width};
+    check(H5Dset_extent(set, grown), "growing " + name);
+  } else {
+    hsize_t dims[2] = {1, width};
+    hsize_t max[2] = {H5S_UNLIMITED, width};
+    hsize_t chunk[2] = {64, width ? width : 1};
+    const hid_t space = H5Screate_simple(rank, dims, max);
+    const hid_t plist = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(plist, rank, chunk);
+    const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    set = H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space, lcpl, plist, H5P_DEFAULT);
+    H5Pclose(lcpl);
+    H5Pclose(plist);
+    H5Sclose(space);
+  }
+  const hid_t filespace = H5Dget_space(set);
+  hsize_t start[2] = {old_rows, 0};
+  hsize_t count[2] = {1, width};
+  H5Sselect_hyperslab(filespace, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  const hid_t memspace = H5Screate_simple(rank, count, nullptr);
+  check(H5Dwrite(set, H5T_NATIVE_DOUBLE, memspace, filespace, H5P_DEFAULT, row), "appending " + name);
+  H5Sclose(memspace);
+  H5Sclose(filespace);
+  H5Dclose(set);
+}
+
+hid_t make_group(hid_t file, const std::string& name) {
+  const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const hid_t g = H5Gcreate2(file, name.c_str(), lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  H5Pclose(lcpl);
+  if (g < 0) throw std::runtime_error("HDF5: cannot create group " + name);
+  return g;
+}
+
+}  // namespace
+
+StateFile::StateFile(const std::filesystem::path& path, const Simulation& sim, std::string note)
+    : path_(path) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file_ < 0) throw std::runtime_error("cannot create HDF5 file " + path.string());
+  bodies_ = sim.bodies().size();
+  elements_ = sim.elements().size();
+  walls_ = static_cast<long long>(sim.walls().size());
+  write_attribute(file_, "format", std::string("mfdem-state-1"));
+  write_attribute(file_, "time_step", sim.time_step());
+  write_attribute(file_, "note", note);
+  const hid_t el = make_group(file_, "elements");
+  write_doubles(el, "radius", sim.elements().radius.data(), elements_, 0);
+  write_ints(el, "body", sim.elements().body);
+  std::vector<Index> material(sim.elements().material.begin(), sim.elements().material.end());
+  write_ints(el, "material", material);
+  H5Gclose(el);
+  const hid_t mat = make_group(file_, "materials");
+  std::vector<std::string> names;
+  for (const auto& m : sim.materials().all()) names.push_back(m.name);
+  write_attribute(mat, "names", names);
+  H5Gclose(mat);
+  const hid_t walls = make_group(file_, "walls");
+  names.clear();
+  for (const auto& w : sim.walls()) names.push_back(w.name);
+  write_attribute(walls, "names", names);
+  H5Gclose(walls);
+  H5Gclose(make_group(file_, "frames"));
+  H5Gclose(make_group(file_, "series"));
+  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+}
+
+StateFile::~StateFile() {
+  if (file_ >= 0) H5Fclose(file_);
+}
+
+void StateFile::write_frame(const Simulation& sim) {
+  Simulation::Snapshot now{sim.time(), sim.step_count(), sim.bodies().position,
+                           sim.bodies().velocity, sim.bodies().angular_velocity};
+  write_snapshot(sim, now, "");
+}
+
+void StateFile::write_snapshot(const Simulation& sim, const Simulation::Snapshot& s,
+                               const std::string& label) {
+  const hid_t g = make_group(file_, frame_name(frames_));
+  write_attribute(g, "time", s.time);
+  write_attribute(g, "step", static_cast<double>(s.step));
+  if (!label.empty()) write_attribute(g, "label", label);
+  write_vec3s(g, "position", s.position);
+  write_vec3s(g, "velocity", s.velocity);
+  write_vec3s(g, "angular_velocity", s.angular_velocity);
+  const Bodies& bodies = sim.bodies();
+  const Elements& elements = sim.elements();
+  std::vector<double> quat(bodies.size() * 4);
+  for (Index b = 0; b < bodies.size(); ++b) {
+    const Quat& q = bodies.orientation[b];
+    quat[4 * b] = q.w(), quat[4 * b + 1] = q.x(), quat[4 * b + 2] = q.y(), quat[4 * b + 3] = q.z();
+  }
+  write_doubles(g, "orientation", quat.data(), bodies.size(), 4);
+  std::vector<Vec3> ep(elements.size()), ev(elements.size());
+  for (Index e = 0; e < elements.size(); ++e) {
+    const Index b = elements.body[e];
+    const Vec3 arm = bodies.orientation[b] * elements.offset[e];
+    ep[e] = s.position[b] + arm;
+    ev[e] = s.velocity[b] + s.angular_velocity[b].cross(arm);
+  }
+  write_vec3s(g, "element_position", ep);
+  write_vec3s(g, "element_velocity", ev);
+  const auto contacts = sim.contacts();
+  std::vector<Index> a, b;
+  std::vector<Vec3> point, force;
+  for (const auto& c : contacts) {
+    a.push_back(c.body_a), b.push_back(c.body_b);
+    point.push_back(c.point), force.push_back(c.force);
+  }
+  write_ints(g, "contact_body_a", a);
+  write_ints(g, "contact_body_b", b);
+  write_vec3s(g, "contact_point", point);
+  write_vec3s(g, "contact_force", force);
+  std::vector<Vec3> wall_force;
+  for (int w = 0; w < static_cast<int>(walls_); ++w) wall_force.push_back(sim.wall_force(w));
+  write_vec3s(g, "wall_force", wall_force);
+  H5Gclose(g);
+  ++frames_;
+  frame_times_.push_back(s.time);
+  append_series(sim, s.time);
+  H5Fflush(file_, H5F_SCOPE_GLOBAL);
+  write_xdmf();
+}
+
+void StateFile::append_series(const Simulation& sim, double time) {
+  const EnergyReport e = sim.energy();
+  const std::pair<const char*, double> values[] = {
+      {"series/time", time},
+      {"series/kinetic_energy", e.kinetic()},
+      {"series/gravitational_energy", e.gravitational},
+      {"series/elastic_energy", e.elastic},
+      {"series/dissipated_damping", e.dissipated_damping},
+      {"series/dissipated_friction", e.dissipated_friction},
+      {"series/dissipated_local", e.dissipated_local},
+      {"series/work_by_walls", e.work_by_walls},
+  };
+  for (const auto& [name, value] : values) append_row(file_, name, &value, 0);
+  if (walls_ > 0) {
+    std::vector<double> row;
+    for (int w = 0; w < static_cast<int>(walls_); ++w)
+      for (int a = 0; a < 3; ++a) row.push_back(sim.wall_force(w)[a]);
+    append_row(file_, "series/wall_force", row.data(), row.size());
+  }
+}
+
+void StateFile::write_xdmf() const {
+  std::filesystem::path xdmf = path_;
+  xdmf.replace_extension(".xdmf");
+  std::ofstream out(xdmf);
+  const std::string h5 = path_.filename().string();
+  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "<Grid Name=\"elements\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (int f = 0; f < frames_; ++f) {
+    const std::string frame = frame_name(f);
+    out << fmt::format("<Grid Name=\"frame{0}\" GridType=\"Uniform\">\n<Time Value=\"{1:.9g}\"/>\n"
+                       "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{2}\"/>\n"
+                       "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{2} 3\" "
+                       "Format=\"HDF\" Precision=\"8\">{3}:/{4}/element_position</DataItem></Geometry>\n"
+                       "<Attribute Name=\"radius\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                       "Format=\"HDF\" Precision=\"8\">{3}:/elements/radius</DataItem></Attribute>\n"
+                       "<Attribute Name=\"body\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                       "NumberType=\"Int\" Format=\"HDF\">{3}:/elements/body</DataItem></Attribute>\n"
+                       "<Attribute Name=\"velocity\" Center=\"Node\" AttributeType=\"Vector\">"
+                       "<DataItem Dimensions=\"{2} 3\" Format=\"HDF\" Precision=\"8\">{3}:/{4}/"
+                       "element_velocity</DataItem></Attribute>\n</Grid>\n",
+                       f, frame_times_[f], elements_, h5, frame);
+  }
+  out << "</Grid>\n</Domain>\n</Xdmf>\n";
+}
+
+namespace {
+
+std::vector<double> read_doubles(hid_t file, const std::string& name) {
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (set < 0) throw std::runtime_error("HDF5: missing dataset " + name);
+  const hid_t space = H5Dget_space(set);
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  std::vector<double> out(static_cast<std::size_t>(n));
+  if (n > 0) check(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "reading " + name);
+  H5Sclose(space);
+  H5Dclose(set);
+  return out;
+}
+
+std::vector<Vec3> read_vec3s(hid_t file, const std::string& name) {
+  const auto flat = read_doubles(file, name);
+  std::vector<Vec3> out(flat.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = Vec3(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  return out;
+}
+
+std::vector<Index> read_ints(hid_t file, const std::string& name) {
+  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
+  if (set < 0) throw std::runtime_error("HDF5: missing dataset " + name);
+  const hid_t space = H5Dget_space(set);
+  std::vector<Index> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  if (!out.empty()) check(H5Dread(set, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), "reading " + name);
+  H5Sclose(space);
+  H5Dclose(set);
+  return out;
+}
+
+double read_attribute(hid_t loc, const std::string& name) {
+  double value = 0.0;
+  const hid_t attr = H5Aopen(loc, name.c_str(), H5P_DEFAULT);
+  if (attr < 0) throw std::runtime_error("HDF5: missing attribute " + name);
+  H5Aread(attr, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(attr);
+  return value;
+}
+
+}  // namespace
+
+int count_frames(const std::filesystem::path& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot open HDF5 file " + path.string());
+  int n = 0;
+  if (H5Lexists(file, "frames", H5P_DEFAULT) <= 0) {
+    H5Fclose(file);
+    throw std::runtime_error(path.string() + " is not an mfdem state file (no /frames)");
+  }
+  while (H5Lexists(file, frame_name(n).c_str(), H5P_DEFAULT) > 0) ++n;
+  H5Fclose(file);
+  return n;
+}
+
+StateFrame read_frame(const std::filesystem::path& path, int frame) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot open HDF5 file " + path.string());
+  StateFrame f;
+  const std::string g = frame_name(frame);
+  const hid_t group = H5Gopen2(file, g.c_str(), H5P_DEFAULT);
+  if (group < 0) {
+    H5Fclose(file);
+    throw std::runtime_error(fmt::format("{} has no frame {}", path.string(), frame));
+  }
+  f.time = read_attribute(group, "time");
+  f.step = static_cast<long long>(read_attribute(group, "step"));
+  H5Gclose(group);
+  f.position = read_vec3s(file, g + "/position");
+  f.velocity = read_vec3s(file, g + "/velocity");
+  f.angular_velocity = read_vec3s(file, g + "/angular_velocity");
+  f.element_radius = read_doubles(file, "elements/radius");
+  f.contact_body_a = read_ints(file, g + "/contact_body_a");
+  f.contact_body_b = read_ints(file, g + "/contact_body_b");
+  f.contact_force = read_vec3s(file, g + "/contact_force");
+  f.wall_force = read_vec3s(file, g + "/wall_force");
+  H5Fclose(file);
+  return f;
+}
+
+}  // namespace mfdem::dem

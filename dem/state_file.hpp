@@ -1,0 +1,68 @@
+#pragma once
+// HDF5 output of a run, with an XDMF companion so ParaView opens the particle states.
+//
+// Layout (all SI units; read with h5py as f["frames/000003/position"][...]):
+//   /                       attrs: format = "mfdem-state-1", time_step, note
+//   /elements/radius        [elements]        m
+//   /elements/body          [elements]        index of the owning body
+//   /elements/material      [elements]        index into /materials names (attribute "names")
+//   /walls                  attr "names"
+//   /frames/NNNNNN          attrs: time (s), step
+//       position, velocity, angular_velocity          [bodies, 3]
+//       orientation                                    [bodies, 4]  (w, x, y, z)
+//       element_position, element_velocity             [elements, 3] (for ParaView)
+//       contact_body_a, contact_body_b                 [contacts]
+//       contact_point, contact_force                   [contacts, 3] (force on body b, N)
+//       wall_force                                     [walls, 3] force on each wall, N
+//   /series/<name>          one value per frame: time, kinetic_energy, gravitational_energy,
+//                           elastic_energy, dissipated_damping, dissipated_friction,
+//                           dissipated_local, work_by_walls (J), and wall_force [frames, walls, 3]
+// Every frame is flushed as it is written, so a run that stops keeps all earlier frames.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dem/simulation.hpp"
+
+namespace mfdem::dem {
+
+class StateFile {
+ public:
+  // Creates (truncates) `path` and `path` with extension .xdmf.
+  StateFile(const std::filesystem::path& path, const Simulation& simulation, std::string note);
+  ~StateFile();
+  StateFile(const StateFile&) = delete;
+  StateFile& operator=(const StateFile&) = delete;
+
+  void write_frame(const Simulation& simulation);
+  // Writes a saved snapshot (e.g. the last good state before a guard tripped) as a frame.
+  void write_snapshot(const Simulation& simulation, const Simulation::Snapshot& snapshot,
+                      const std::string& label);
+  int frame_count() const { return frames_; }
+
+ private:
+  void append_series(const Simulation& simulation, double time);
+  void write_xdmf() const;
+
+  std::filesystem::path path_;
+  long long file_ = -1;
+  int frames_ = 0;
+  long long bodies_ = 0, elements_ = 0, walls_ = 0;
+  std::vector<double> frame_times_;
+};
+
+// What a frame holds, read back (for tests, restarts and post-processing).
+struct StateFrame {
+  double time = 0.0;
+  long long step = 0;
+  std::vector<Vec3> position, velocity, angular_velocity;
+  std::vector<double> element_radius;
+  std::vector<Index> contact_body_a, contact_body_b;
+  std::vector<Vec3> contact_force;
+  std::vector<Vec3> wall_force;
+};
+
+int count_frames(const std::filesystem::path& path);
+StateFrame read_frame(const std::filesystem::path& path, int frame);
+
+}  // namespace mfdem::dem

@@ -1,0 +1,82 @@
+#include "dem/time_step.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mfdem::dem {
+namespace {
+
+// Per material: the lightest body, its inverse rotational lever and inverse inertia.
+struct Lightest {
+  bool present = false;
+  double inverse_mass = 0.0;              // 1/m, 1/kg
+  double inverse_tangential_mass = 0.0;   // 1/m + r^2/I
+  double inverse_inertia = 0.0;           // 1/I
+  double radius = 0.0;
+};
+
+double damped_factor(double beta) { return std::sqrt(1.0 + beta * beta) - beta; }
+
+}  // namespace
+
+TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
+                                 const MaterialTable& materials,
+                                 const std::vector<PlaneWall>& walls) {
+  const int nm = materials.size();
+  std::vector<Lightest> light(nm);
+  for (Index e = 0; e < elements.size(); ++e) {
+    const Index b = elements.body[e];
+    const int m = elements.material[e];
+    const double inv_mass = 1.0 / bodies.mass[b];
+    const double inv_inertia = 1.0 / bodies.inertia[b].minCoeff();
+    const double lever = elements.radius[e] + elements.offset[e].norm();
+    Lightest& l = light[m];
+    l.present = true;
+    l.inverse_mass = std::max(l.inverse_mass, inv_mass);
+    l.inverse_tangential_mass =
+        std::max(l.inverse_tangential_mass, inv_mass + lever * lever * inv_inertia);
+    l.inverse_inertia = std::max(l.inverse_inertia, inv_inertia);
+    l.radius = std::max(l.radius, elements.radius[e]);
+  }
+
+  TimeStepLimit best{std::numeric_limits<double>::infinity(), "no contacts possible"};
+  auto consider = [&](double omega2, double beta, const std::string& what) {
+    if (omega2 <= 0.0) return;
+    const double dt = 2.0 / std::sqrt(omega2) * damped_factor(beta);
+    if (dt < best.limit) best = {dt, what};
+  };
+  auto consider_pair = [&](const PairParameters& p, const Lightest& a, const Lightest* b,
+                           const std::string& label) {
+    // b == nullptr: a wall (infinite mass, no rotation).
+    const double inv_m = a.inverse_mass + (b ? b->inverse_mass : 0.0);
+    const double inv_mt = a.inverse_tangential_mass + (b ? b->inverse_tangential_mass : 0.0);
+    const double rbar = b ? a.radius * b->radius / (a.radius + b->radius) : a.radius;
+    const double inv_i = a.inverse_inertia + (b ? b->inverse_inertia : 0.0);
+    consider(p.normal_stiffness * inv_m, p.damping_ratio,
+             fmt::format("normal spring of {} (kn = {:.3g} N/m, lightest m_eff = {:.3g} kg)",
+                         label, p.normal_stiffness, 1.0 / inv_m));
+    consider(p.shear_stiffness * inv_mt, p.damping_ratio,
+             fmt::format("shear spring of {} (ks = {:.3g} N/m)", label, p.shear_stiffness));
+    if (p.rolling_friction > 0.0)
+      consider(p.shear_stiffness * rbar * rbar * inv_i, p.damping_ratio,
+               fmt::format("rolling spring of {}", label));
+  };
+
+  for (int a = 0; a < nm; ++a) {
+    if (!light[a].present) continue;
+    for (int b = a; b < nm; ++b) {
+      if (!light[b].present) continue;
+      consider_pair(materials.pair(a, b), light[a], &light[b],
+                    materials[a].name + "-" + materials[b].name + " contacts");
+    }
+    for (const auto& w : walls)
+      consider_pair(materials.pair(a, w.material), light[a], nullptr,
+                    materials[a].name + " on wall '" + w.name + "'");
+  }
+  return best;
+}
+
+}  // namespace mfdem::dem

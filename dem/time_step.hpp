@@ -1,0 +1,30 @@
+#pragma once
+// Critical time step of the explicit integrator.
+//
+// For one linear contact of stiffness k between masses with reduced mass m_eff, velocity
+// Verlet is stable for dt < 2/w, w = sqrt(k / m_eff); viscous damping of ratio beta lowers it
+// to 2/w (sqrt(1 + beta^2) - beta). The tangential spring also turns the bodies, which lowers
+// the effective mass to 1 / (1/m_a + r_a^2/I_a + 1/m_b + r_b^2/I_b) (2/7 m for a sphere on a
+// wall); the rolling spring acts on the moments of inertia. The stiffest, lightest combination
+// present sets the limit. A packed bed (several contacts per body) needs a safety factor below
+// one: the automatic step is safety x limit, 0.2 by default (PFC and LIGGGHTS users take
+// 0.1-0.3 of the Rayleigh or spring limit).
+#include <string>
+#include <vector>
+
+#include "dem/bodies.hpp"
+#include "dem/material.hpp"
+#include "dem/wall.hpp"
+
+namespace mfdem::dem {
+
+struct TimeStepLimit {
+  double limit = 0.0;   // s
+  std::string reason;   // which contact and body set it
+};
+
+TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
+                                 const MaterialTable& materials,
+                                 const std::vector<PlaneWall>& walls);
+
+}  // namespace mfdem::dem

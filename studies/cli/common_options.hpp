@@ -1,0 +1,16 @@
+// The options every simulating subcommand takes: --threads, --seed, --out, --quiet.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "studies/cli/commands.hpp"
+
+namespace mfdem::cli {
+
+// Declares the options on `command`, writing into `options` when it is parsed.
+void add_common_options(CLI::App& command, CommonOptions& options);
+
+// Sets the OpenMP thread count from --threads (0 = all cores, overriding OMP_NUM_THREADS).
+void apply_thread_count(const CommonOptions& options);
+
+}  // namespace mfdem::cli

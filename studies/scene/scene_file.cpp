@@ -1,0 +1,159 @@
+#include "studies/scene/scene_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "studies/config/config.hpp"
+#include "studies/scene/sphere_sources.hpp"
+
+namespace mfdem::scene {
+namespace {
+
+using config::Range;
+using config::Section;
+
+dem::Vec3 to_vec(const std::array<double, 3>& a) { return dem::Vec3(a[0], a[1], a[2]); }
+
+const Range kPositive{.min = 0.0, .min_exclusive = true};
+const Range kNonNegative{.min = 0.0};
+const Range kFraction{.min = 0.0, .max = 1.0};
+
+void read_simulation(const Section& s, Scene& scene) {
+  scene.duration = s.number("duration", kPositive, "simulated time in s");
+  scene.settings.time_step = s.number_or("time_step", 0.0, kNonNegative,
+                                         "time step in s (0 or absent: automatic)");
+  scene.settings.time_step_safety = s.number_or("time_step_safety", 0.2,
+                                                {.min = 0.0, .max = 1.0, .min_exclusive = true},
+                                                "fraction of the critical time step");
+  scene.settings.force_time_step = s.boolean_or("force_time_step", false);
+  scene.output_interval = s.number_or("output_interval", scene.duration / 20.0, kPositive,
+                                      "output interval in s");
+  scene.settings.gravity = to_vec(s.vec3_or("gravity", {0.0, 0.0, -9.81}, "gravity in m/s^2"));
+  scene.settings.skin = s.number_or("skin", 0.0, kNonNegative,
+                                    "neighbour-list skin in m (0: 0.2 x smallest radius)");
+  scene.seed = static_cast<std::uint64_t>(s.integer_or("seed", 1, {.min = 0}, "random seed"));
+}
+
+void read_guards(const Section& s, dem::GuardSettings& g) {
+  g.max_overlap_fraction = s.number_or("max_overlap_fraction", g.max_overlap_fraction,
+                                       {.min = 0.0, .max = 1.0, .min_exclusive = true},
+                                       "largest overlap as a fraction of the radius");
+  g.check_interval = static_cast<int>(s.integer_or("check_interval", g.check_interval, {.min = 1},
+                                                   "steps between energy checks"));
+  g.energy_growth = s.number_or("energy_growth", g.energy_growth, kPositive,
+                                "allowed energy growth as a fraction of the energy scale");
+}
+
+void read_domain(const Section& s, dem::Domain& d) {
+  d.min = to_vec(s.vec3("min", "domain corner in m"));
+  d.max = to_vec(s.vec3("max", "domain corner in m"));
+  for (int a = 0; a < 3; ++a)
+    if (!(d.max[a] > d.min[a]))
+      s.fail("max", fmt::format("a corner above min along {} (min = {})", "xyz"[a], d.min[a]));
+  for (const auto& axis : s.strings_or("periodic", {})) {
+    if (axis != "x" && axis != "y" && axis != "z")
+      s.fail("periodic", "a list of axis names among \"x\", \"y\", \"z\"");
+    d.periodic[axis[0] - 'x'] = true;
+  }
+}
+
+dem::Material read_material(const Section& s, const std::string& name) {
+  dem::Material m;
+  m.name = name;
+  m.density = s.number("density", kPositive, "density in kg/m^3");
+  m.normal_stiffness = s.number("normal_stiffness", kPositive, "normal stiffness kn in N/m");
+  m.shear_stiffness = s.number("shear_stiffness", kPositive, "shear stiffness ks in N/m");
+  m.friction = s.number("friction", kNonNegative, "friction coefficient");
+  m.rolling_friction = s.number_or("rolling_friction", 0.0, kNonNegative,
+                                   "rolling friction coefficient mu_r");
+  m.damping_ratio = s.number_or("damping_ratio", 0.0, kFraction,
+                                "viscous damping ratio (fraction of critical)");
+  m.local_damping = s.number_or("local_damping", 0.0, {.min = 0.0, .max = 1.0, .max_exclusive = true},
+                                "local damping coefficient alpha");
+  return m;
+}
+
+void read_pair_override(const Section& s, dem::MaterialTable& materials) {
+  const auto names = s.strings_or("materials", {});
+  if (names.size() != 2) s.fail("materials", "two material names, e.g. [\"ballast\", \"sleeper\"]");
+  for (const auto& n : names)
+    if (materials.index_of(n) < 0) s.fail("materials", "names of materials defined under [materials]");
+  dem::PairOverride o;
+  o.material_a = names[0];
+  o.material_b = names[1];
+  if (s.has("friction")) o.friction = s.number("friction", kNonNegative, "friction coefficient");
+  if (s.has("rolling_friction"))
+    o.rolling_friction = s.number("rolling_friction", kNonNegative, "rolling friction coefficient mu_r");
+  if (s.has("damping_ratio"))
+    o.damping_ratio = s.number("damping_ratio", kFraction, "viscous damping ratio");
+  materials.add_override(o);
+}
+
+void read_walls(const Section& s, int index, Scene& scene) {
+  const std::string type = s.choice("type", {"plane", "box"});
+  const int material = material_key(s, scene.materials);
+  const std::string name = s.text_or("name", fmt::format("wall{}", index));
+  if (type == "plane") {
+    dem::PlaneWall w;
+    w.name = name;
+    w.point = to_vec(s.vec3("point", "a point on the plane in m"));
+    w.normal = to_vec(s.vec3("normal", "normal pointing into the domain"));
+    if (w.normal.norm() == 0.0) s.fail("normal", "a non-zero vector");
+    w.velocity = to_vec(s.vec3_or("velocity", {0, 0, 0}, "wall velocity in m/s"));
+    w.material = material;
+    scene.walls.push_back(w);
+    return;
+  }
+  const dem::Vec3 lo = to_vec(s.vec3("min", "box corner in m"));
+  const dem::Vec3 hi = to_vec(s.vec3("max", "box corner in m"));
+  for (int a = 0; a < 3; ++a)
+    if (!(hi[a] > lo[a])) s.fail("max", fmt::format("a corner above min along {}", "xyz"[a]));
+  const bool open_top = s.boolean_or("open_top", true);
+  for (const auto& w : dem::box_walls(name, lo, hi, open_top, material)) scene.walls.push_back(w);
+}
+
+}  // namespace
+
+Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t> seed) {
+  const Section root = config::load(file);
+  Scene scene;
+  scene.source = file;
+  read_simulation(root.section("simulation"), scene);
+  if (seed) scene.seed = *seed;
+  if (auto guards = root.optional_section("guards")) read_guards(*guards, scene.settings.guards);
+  read_domain(root.section("domain"), scene.domain);
+
+  const Section materials = root.section("materials");
+  const auto names = materials.names();
+  if (names.empty()) materials.fail("", "at least one material, e.g. [materials.ballast]");
+  for (const auto& name : names) scene.materials.add(read_material(materials.section(name), name));
+  for (const auto& pair : root.sections("pair")) read_pair_override(pair, scene.materials);
+
+  for (const auto& s : root.sections("sphere")) scene.spheres.push_back(read_sphere(s, scene.materials));
+  for (const auto& s : root.sections("sphere_file")) {
+    auto more = read_sphere_file(s, scene.materials);
+    scene.spheres.insert(scene.spheres.end(), more.begin(), more.end());
+  }
+  std::uint64_t group_seed = scene.seed;
+  for (const auto& s : root.sections("sphere_group")) {
+    auto more = generate_sphere_group(s, scene.materials, group_seed++);
+    scene.spheres.insert(scene.spheres.end(), more.begin(), more.end());
+  }
+  int wall_index = 0;
+  for (const auto& s : root.sections("wall")) read_walls(s, wall_index++, scene);
+  root.finish();
+  if (scene.spheres.empty())
+    throw config::ConfigError(file.string() + ": the scene places no spheres; add [[sphere]], "
+                              "[[sphere_file]] or [[sphere_group]]");
+  return scene;
+}
+
+dem::Simulation make_simulation(const Scene& scene) {
+  dem::Simulation sim(scene.domain, scene.materials, scene.settings);
+  for (const auto& s : scene.spheres) sim.add_sphere(s);
+  for (const auto& w : scene.walls) sim.add_wall(w);
+  return sim;
+}
+
+}  // namespace mfdem::scene

@@ -1,0 +1,29 @@
+#pragma once
+// The ways a scene places spheres: one by one, from a text file, or as a generated group.
+#include <cstdint>
+#include <vector>
+
+#include "dem/simulation.hpp"
+#include "studies/config/config.hpp"
+
+namespace mfdem::scene {
+
+// [[sphere]]: position, radius, material, optional velocity and angular_velocity.
+dem::SphereSpec read_sphere(const config::Section& s, const dem::MaterialTable& materials);
+
+// [[sphere_file]]: path (relative to the scene file) of a text file with one sphere per line,
+// "x y z radius" in metres, '#' comments; material; optional velocity.
+std::vector<dem::SphereSpec> read_sphere_file(const config::Section& s,
+                                              const dem::MaterialTable& materials);
+
+// [[sphere_group]]: `count` spheres on a simple cubic lattice filling the region min..max in
+// x, then y, then z order, radii uniform in radius*(1 +- radius_spread), seeded random velocity
+// of magnitude up to `random_speed` on top of `velocity`.
+std::vector<dem::SphereSpec> generate_sphere_group(const config::Section& s,
+                                                   const dem::MaterialTable& materials,
+                                                   std::uint64_t seed);
+
+// The material named by key "material"; fails naming the known ones.
+int material_key(const config::Section& s, const dem::MaterialTable& materials);
+
+}  // namespace mfdem::scene
