@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "dem/chunked.hpp"
+#include "dem/rigid_rotation.hpp"
 #include "dem/time_step.hpp"
 
 namespace mfdem::dem {
@@ -27,30 +28,55 @@ Simulation::Simulation(Domain domain, MaterialTable materials, SimulationSetting
 }
 
 Index Simulation::add_sphere(const SphereSpec& s) {
-  if (prepared_) throw std::logic_error("add_sphere after prepare()");
   if (s.material < 0 || s.material >= materials_.size())
     throw std::invalid_argument(fmt::format("sphere material index {} is not defined", s.material));
   if (!(s.radius > 0.0))
     throw std::invalid_argument(fmt::format("sphere radius must be > 0 m (got {})", s.radius));
-  const Material& m = materials_[s.material];
-  const double mass = m.density * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
-  const double inertia = kSphereInertiaFactor * mass * s.radius * s.radius;
+  const double mass = materials_[s.material].density * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+  ClumpSpec body;
+  body.position = s.position;
+  body.velocity = s.velocity;
+  body.angular_velocity = s.angular_velocity;
+  body.mass = mass;
+  body.principal_inertia = Vec3::Constant(kSphereInertiaFactor * mass * s.radius * s.radius);
+  body.pebbles = {Pebble{Vec3::Zero(), s.radius}};
+  body.material = s.material;
+  return add_body(body);
+}
+
+Index Simulation::add_clump(const ClumpSpec& c) {
+  if (c.material < 0 || c.material >= materials_.size())
+    throw std::invalid_argument(fmt::format("clump material index {} is not defined", c.material));
+  if (c.pebbles.empty()) throw std::invalid_argument("a clump needs at least one pebble");
+  if (!(c.mass > 0.0) || !(c.principal_inertia.minCoeff() > 0.0))
+    throw std::invalid_argument("a clump needs a positive mass and principal inertia");
+  for (const auto& p : c.pebbles)
+    if (!(p.radius > 0.0))
+      throw std::invalid_argument(fmt::format("pebble radius must be > 0 m (got {})", p.radius));
+  return add_body(c);
+}
+
+Index Simulation::add_body(const ClumpSpec& c) {
+  if (prepared_) throw std::logic_error("bodies must be added before prepare()");
   const Index b = bodies_.size();
-  bodies_.position.push_back(s.position);
-  bodies_.velocity.push_back(s.velocity);
-  bodies_.angular_velocity.push_back(s.angular_velocity);
-  bodies_.orientation.push_back(Quat::Identity());
-  bodies_.mass.push_back(mass);
-  bodies_.inertia.push_back(Vec3::Constant(inertia));
-  bodies_.local_damping.push_back(m.local_damping);
+  bodies_.position.push_back(c.position);
+  bodies_.velocity.push_back(c.velocity);
+  bodies_.angular_velocity.push_back(c.angular_velocity);
+  bodies_.orientation.push_back(c.orientation.normalized());
+  bodies_.mass.push_back(c.mass);
+  bodies_.inertia.push_back(c.principal_inertia);
+  bodies_.local_damping.push_back(materials_[c.material].local_damping);
   bodies_.force.push_back(Vec3::Zero());
   bodies_.torque.push_back(Vec3::Zero());
-  elements_.position.push_back(s.position);
-  elements_.offset.push_back(Vec3::Zero());
-  elements_.radius.push_back(s.radius);
-  elements_.material.push_back(s.material);
-  elements_.body.push_back(b);
+  for (const auto& p : c.pebbles) {
+    elements_.position.push_back(c.position + c.orientation.normalized() * p.offset);
+    elements_.offset.push_back(p.offset);
+    elements_.radius.push_back(p.radius);
+    elements_.material.push_back(c.material);
+    elements_.body.push_back(b);
+  }
   bodies_.first_element.push_back(elements_.size());
+  point_body_.push_back(c.pebbles.size() == 1 && c.pebbles[0].offset.isZero());
   wrap_total_.push_back(Vec3::Zero());
   return b;
 }
@@ -110,14 +136,32 @@ void Simulation::prepare() {
   const double height = std::abs(extent[0] * g_dir[0]) + std::abs(extent[1] * g_dir[1]) +
                         std::abs(extent[2] * g_dir[2]);
   energy_scale_ = weight * height + e.kinetic() + e.elastic;
-  last_good_ = Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
-                        bodies_.angular_velocity};
+  last_good_ = snapshot();
 }
 
 void Simulation::update_element_positions(Index b) {
   const Index end = bodies_.element_end(b);
   for (Index e = bodies_.element_begin(b); e < end; ++e)
     elements_.position[e] = bodies_.position[b] + bodies_.orientation[b] * elements_.offset[e];
+}
+
+// Half kick: v += h F/m; the angular momentum takes h T. A point body (sphere) has an isotropic
+// inertia, so w += h T/I directly; a clump goes through its body-frame angular momentum.
+void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) {
+  bodies_.velocity[b] += (h / bodies_.mass[b]) * force;
+  if (point_body_[b]) {
+    bodies_.angular_velocity[b] += h * torque.cwiseQuotient(bodies_.inertia[b]);
+    return;
+  }
+  const Quat& q = bodies_.orientation[b];
+  const Vec3 l_body = body_angular_momentum(q, bodies_.inertia[b], bodies_.angular_velocity[b]) +
+                      h * (q.conjugate() * torque);
+  bodies_.angular_velocity[b] = world_angular_velocity(q, bodies_.inertia[b], l_body);
+}
+
+Simulation::Snapshot Simulation::snapshot() const {
+  return Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
+                  bodies_.angular_velocity, bodies_.orientation};
 }
 
 void Simulation::step() {
@@ -138,10 +182,15 @@ void Simulation::drift_and_kick() {
   double max_move2 = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : max_move2)
   for (Index b = 0; b < nb; ++b) {
-    const double inv_m = 1.0 / bodies_.mass[b];
-    bodies_.velocity[b] += (half * inv_m) * bodies_.force[b];
-    bodies_.angular_velocity[b] += half * bodies_.torque[b].cwiseQuotient(bodies_.inertia[b]);
+    kick(b, bodies_.force[b], bodies_.torque[b], half);
     bodies_.position[b] += dt_ * bodies_.velocity[b];
+    if (!point_body_[b]) {
+      Vec3 l_body = body_angular_momentum(bodies_.orientation[b], bodies_.inertia[b],
+                                          bodies_.angular_velocity[b]);
+      free_rotation(bodies_.orientation[b], l_body, bodies_.inertia[b], dt_);
+      bodies_.angular_velocity[b] =
+          world_angular_velocity(bodies_.orientation[b], bodies_.inertia[b], l_body);
+    }
     update_element_positions(b);
     const Index end = bodies_.element_end(b);
     for (Index e = bodies_.element_begin(b); e < end; ++e)
@@ -265,7 +314,7 @@ void Simulation::gather_and_kick() {
   chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
   const double dt = dt_;
   const double half = 0.5 * dt_;
-  const bool kick = gather_and_kick_;
+  const bool kick_now = gather_and_kick_;
   const Vec3 gravity = settings_.gravity;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
 #pragma omp parallel for schedule(static)
@@ -343,10 +392,7 @@ void Simulation::gather_and_kick() {
       }
       bodies_.force[b] = force;
       bodies_.torque[b] = torque;
-      if (kick) {
-        bodies_.velocity[b] += (half / mass) * force;
-        bodies_.angular_velocity[b] += half * torque.cwiseQuotient(bodies_.inertia[b]);
-      }
+      if (kick_now) kick(b, force, torque, half);
       if (acc.bad_body < 0 && !(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
                                 finite(bodies_.angular_velocity[b])))
         acc.bad_body = b;
@@ -392,8 +438,7 @@ void Simulation::check_stability() {
                      std::sqrt(vmax)),
          fastest);
   }
-  last_good_ = Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
-                        bodies_.angular_velocity};
+  last_good_ = snapshot();
 }
 
 void Simulation::fail(const std::string& what, Index body) const {

@@ -42,6 +42,24 @@ struct SphereSpec {
   int material = 0;
 };
 
+// A rigid clump: pebbles fixed in the body's principal frame. Mass properties come from the
+// caller (fidelity::ClumpTemplate integrates them over the overlapping union).
+struct Pebble {
+  Vec3 offset = Vec3::Zero();  // from the centre of mass, principal frame, m
+  double radius = 0.01;        // m
+};
+
+struct ClumpSpec {
+  Vec3 position = Vec3::Zero();            // centre of mass, m
+  Quat orientation = Quat::Identity();     // principal frame to world
+  Vec3 velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();    // world frame, rad/s
+  double mass = 0.0;                       // kg
+  Vec3 principal_inertia = Vec3::Zero();   // kg m^2
+  std::vector<Pebble> pebbles;
+  int material = 0;
+};
+
 // Energy account, J. With no damping, friction or work, `total()` is conserved.
 struct EnergyReport {
   double kinetic_translational = 0.0;
@@ -72,6 +90,7 @@ class Simulation {
   Simulation(Domain domain, MaterialTable materials, SimulationSettings settings);
 
   Index add_sphere(const SphereSpec& sphere);
+  Index add_clump(const ClumpSpec& clump);
   int add_wall(const PlaneWall& wall);
 
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
@@ -108,6 +127,7 @@ class Simulation {
     double time = 0.0;
     std::int64_t step = 0;
     std::vector<Vec3> position, velocity, angular_velocity;
+    std::vector<Quat> orientation;
   };
   const std::optional<Snapshot>& last_good_state() const { return last_good_; }
 
@@ -119,6 +139,9 @@ class Simulation {
   void gather_and_kick();
   void check_stability();
   void update_element_positions(Index b);
+  Index add_body(const ClumpSpec& body);
+  void kick(Index b, const Vec3& force, const Vec3& torque, double h);
+  Snapshot snapshot() const;
   void fail(const std::string& what, Index body) const;
 
   Domain domain_;
@@ -127,6 +150,7 @@ class Simulation {
   Bodies bodies_;
   Elements elements_;
   std::vector<PlaneWall> walls_;
+  std::vector<std::uint8_t> point_body_;  // one element at the centre: rotation needs no frame
   std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
 
   PairList pairs_;

@@ -157,7 +157,8 @@ StateFile::~StateFile() {
 
 void StateFile::write_frame(const Simulation& sim) {
   Simulation::Snapshot now{sim.time(), sim.step_count(), sim.bodies().position,
-                           sim.bodies().velocity, sim.bodies().angular_velocity};
+                           sim.bodies().velocity, sim.bodies().angular_velocity,
+                           sim.bodies().orientation};
   write_snapshot(sim, now, "");
 }
 
@@ -174,14 +175,14 @@ void StateFile::write_snapshot(const Simulation& sim, const Simulation::Snapshot
   const Elements& elements = sim.elements();
   std::vector<double> quat(bodies.size() * 4);
   for (Index b = 0; b < bodies.size(); ++b) {
-    const Quat& q = bodies.orientation[b];
+    const Quat& q = s.orientation.empty() ? bodies.orientation[b] : s.orientation[b];
     quat[4 * b] = q.w(), quat[4 * b + 1] = q.x(), quat[4 * b + 2] = q.y(), quat[4 * b + 3] = q.z();
   }
   write_doubles(g, "orientation", quat.data(), bodies.size(), 4);
   std::vector<Vec3> ep(elements.size()), ev(elements.size());
   for (Index e = 0; e < elements.size(); ++e) {
     const Index b = elements.body[e];
-    const Vec3 arm = bodies.orientation[b] * elements.offset[e];
+    const Vec3 arm = (s.orientation.empty() ? bodies.orientation[b] : s.orientation[b]) * elements.offset[e];
     ep[e] = s.position[b] + arm;
     ev[e] = s.velocity[b] + s.angular_velocity[b].cross(arm);
   }
