@@ -91,7 +91,8 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
 
   // Each thread scans a contiguous block of i in order; concatenating the blocks in thread
   // order gives the same list whatever the thread count.
-  const int threads = omp_get_max_threads();
+  // Small systems stay on one thread: a parallel region costs more than it saves there.
+  const int threads = n > 4096 ? omp_get_max_threads() : 1;
   std::vector<std::vector<Index>> block_first(threads), block_second(threads);
   std::vector<std::vector<Image>> block_image(threads);
 #pragma omp parallel num_threads(threads)

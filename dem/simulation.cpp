@@ -180,7 +180,7 @@ void Simulation::drift_and_kick() {
   const Index nb = bodies_.size();
   const double half = 0.5 * dt_;
   double max_move2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_move2)
+#pragma omp parallel for schedule(static) reduction(max : max_move2) if (nb > kChunkSize)
   for (Index b = 0; b < nb; ++b) {
     kick(b, bodies_.force[b], bodies_.torque[b], half);
     bodies_.position[b] += dt_ * bodies_.velocity[b];
@@ -217,7 +217,7 @@ void Simulation::rebuild() {
   const Index n = fresh.size();
   const bool had_list = !pairs_.row_start.empty();
   // Images are relative to the positions of this build; a wrapped body shifts its images.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > kChunkSize)
   for (Index p = 0; p < n; ++p) {
     if (!had_list) continue;
     const Index i = fresh.first[p], j = fresh.second[p];
@@ -244,7 +244,7 @@ void Simulation::evaluate_pairs() {
   const Vec3 length = domain_.length();
   const double dt = dt_;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (chunks > 1)
   for (Index c = 0; c < chunks; ++c) {
     ChunkEnergy acc;
     const Index end = chunk_end(c, np);
@@ -317,7 +317,7 @@ void Simulation::gather_and_kick() {
   const bool kick_now = gather_and_kick_;
   const Vec3 gravity = settings_.gravity;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (chunks > 1)
   for (Index c = 0; c < chunks; ++c) {
     ChunkEnergy acc;
     Vec3* wall_sum = nw ? &chunk_wall_force_[c * nw] : nullptr;
