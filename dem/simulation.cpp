@@ -20,6 +20,23 @@ constexpr double kPi = 3.14159265358979323846;
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
+// Energy the tangential and rolling springs of a contact that has just opened give up to
+// friction, J. The springs are discarded with the contact: in continuous time the Coulomb caps
+// (mu Fn, mu_r Rbar Fn -> 0 with the overlap) slip them to zero just before it opens. Part of
+// their energy has already gone into the motion: this step's first half kick applied the last
+// spring force and moment over dt/2, at relative tangential velocity vt and rolling velocity
+// w_roll (b relative to a). Without this account a contact that opens with a loaded spring
+// (large mu or mu_r) loses energy that the balance never sees.
+double released_spring_energy(const PairParameters& p, const ContactHistory& h, double rbar,
+                              const Vec3& vt, const Vec3& w_roll, double dt) {
+  double e = h.shear_force.squaredNorm() / (2.0 * p.shear_stiffness) -
+             0.5 * dt * h.shear_force.dot(vt);
+  if (p.rolling_friction > 0.0)
+    e += h.rolling_moment.squaredNorm() / (2.0 * p.shear_stiffness * rbar * rbar) -
+         0.5 * dt * h.rolling_moment.dot(w_roll);
+  return std::max(0.0, e);
+}
+
 }  // namespace
 
 Simulation::Simulation(Domain domain, MaterialTable materials, SimulationSettings settings)
@@ -140,6 +157,10 @@ void Simulation::prepare() {
 }
 
 void Simulation::update_element_positions(Index b) {
+  if (point_body_[b]) {
+    elements_.position[bodies_.element_begin(b)] = bodies_.position[b];
+    return;
+  }
   const Index end = bodies_.element_end(b);
   for (Index e = bodies_.element_begin(b); e < end; ++e)
     elements_.position[e] = bodies_.position[b] + bodies_.orientation[b] * elements_.offset[e];
@@ -180,8 +201,13 @@ void Simulation::drift_and_kick() {
   const Index nb = bodies_.size();
   const double half = 0.5 * dt_;
   double max_move2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : max_move2) if (nb > kChunkSize)
+  Index first_bad = nb;
+#pragma omp parallel for schedule(static) reduction(max : max_move2) reduction(min : first_bad) \
+    if (nb > kChunkSize)
   for (Index b = 0; b < nb; ++b) {
+    if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
+          finite(bodies_.angular_velocity[b])))
+      first_bad = std::min(first_bad, b);
     kick(b, bodies_.force[b], bodies_.torque[b], half);
     bodies_.position[b] += dt_ * bodies_.velocity[b];
     if (!point_body_[b]) {
@@ -197,6 +223,10 @@ void Simulation::drift_and_kick() {
       max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
   }
   max_move2_ = max_move2;
+  // A state made non-finite between steps (by a caller): name that body now, before the contact
+  // forces carry the NaN to its neighbours, which gather_and_kick would otherwise name.
+  if (first_bad < nb)
+    fail(fmt::format("body {} has a non-finite position or velocity", first_bad), first_bad);
 }
 
 void Simulation::maybe_rebuild() {
@@ -259,6 +289,17 @@ void Simulation::evaluate_pairs() {
       if (r2 >= reach * reach) {
         if (pair_active_[p]) {
           pair_active_[p] = 0;
+          const Vec3 n = d.normalized();
+          const Index bi = elements_.body[i], bj = elements_.body[j];
+          const Vec3& wi = bodies_.angular_velocity[bi];
+          const Vec3& wj = bodies_.angular_velocity[bj];
+          const Vec3 v =
+              bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] - rj * n) -
+              bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
+          const Vec3 spin = wj - wi;
+          acc.friction += released_spring_energy(
+              materials_.pair(elements_.material[i], elements_.material[j]), pair_history_[p],
+              ri * rj / reach, v - v.dot(n) * n, spin - spin.dot(n) * n, dt);
           pair_history_[p] = ContactHistory{};
         }
         continue;
@@ -351,6 +392,13 @@ void Simulation::gather_and_kick() {
           ContactHistory& history = wall_history_[e * nw + w];
           const double gap = (xe - wall.point).dot(wall.normal);
           if (gap >= re) {
+            if (history.shear_force.squaredNorm() + history.rolling_moment.squaredNorm() > 0.0) {
+              const Vec3& n = wall.normal;
+              const Vec3 v = vb + wb.cross(xe - xb - re * n) - wall.velocity;
+              acc.friction += released_spring_energy(
+                  materials_.pair(wall.material, elements_.material[e]), history, re,
+                  v - v.dot(n) * n, wb - wb.dot(n) * n, dt);
+            }
             history = ContactHistory{};
             continue;
           }
@@ -436,15 +484,16 @@ void Simulation::check_stability() {
                      "contact",
                      growth, settings_.guards.energy_growth * energy_scale_, fastest,
                      std::sqrt(vmax)),
-         fastest);
+         fastest, true);
   }
   last_good_ = snapshot();
 }
 
-void Simulation::fail(const std::string& what, Index body) const {
+void Simulation::fail(const std::string& what, Index body, bool step_completed) const {
   throw StabilityError(fmt::format("unstable run at t = {:.6g} s (step {}), body {}: {}. The "
                                    "last good state (t = {:.6g} s) is kept.",
-                                   time_ + dt_, step_count_ + 1, body, what,
+                                   step_completed ? time_ : time_ + dt_,
+                                   step_completed ? step_count_ : step_count_ + 1, body, what,
                                    last_good_ ? last_good_->time : 0.0));
 }
 

@@ -142,7 +142,8 @@ class Simulation {
   Index add_body(const ClumpSpec& body);
   void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
-  void fail(const std::string& what, Index body) const;
+  // Throws StabilityError naming the step being taken, or the one just completed.
+  void fail(const std::string& what, Index body, bool step_completed = false) const;
 
   Domain domain_;
   MaterialTable materials_;

@@ -297,6 +297,19 @@ double read_attribute(hid_t loc, const std::string& name) {
   return value;
 }
 
+// A text attribute written by write_attribute; "" when absent.
+std::string read_text_attribute(hid_t loc, const std::string& name) {
+  if (H5Aexists(loc, name.c_str()) <= 0) return "";
+  const hid_t attr = H5Aopen(loc, name.c_str(), H5P_DEFAULT);
+  const hid_t type = H5Aget_type(attr);
+  std::string value(H5Tget_size(type), '\0');
+  check(H5Aread(attr, type, value.data()), "reading attribute " + name);
+  H5Tclose(type);
+  H5Aclose(attr);
+  value.resize(value.find('\0') == std::string::npos ? value.size() : value.find('\0'));
+  return value;
+}
+
 }  // namespace
 
 int count_frames(const std::filesystem::path& path) {
@@ -324,6 +337,7 @@ StateFrame read_frame(const std::filesystem::path& path, int frame) {
   }
   f.time = read_attribute(group, "time");
   f.step = static_cast<long long>(read_attribute(group, "step"));
+  f.label = read_text_attribute(group, "label");
   H5Gclose(group);
   f.position = read_vec3s(file, g + "/position");
   f.velocity = read_vec3s(file, g + "/velocity");

@@ -55,6 +55,7 @@ class StateFile {
 struct StateFrame {
   double time = 0.0;
   long long step = 0;
+  std::string label;  // e.g. "last good state" for the snapshot kept when a guard tripped
   std::vector<Vec3> position, velocity, angular_velocity;
   std::vector<double> element_radius;
   std::vector<Index> contact_body_a, contact_body_b;

@@ -27,13 +27,15 @@ constexpr const char* description =
     "every study reports the time and elements it saved against the accuracy it lost.";
 
 // CLI11 would report `mfdem frobnicate` as "a subcommand is required"; name the word instead. The
-// top level takes only flags, so the first word not starting with '-' must be a subcommand.
+// top level takes only flags without values, so after them the next word must be a subcommand;
+// anything else starting with '-' is left to CLI11 to report.
 std::optional<std::string> unknown_command(const CLI::App& app, int argc, const char* const* argv) {
   std::vector<std::string> known;
   for (const CLI::App* command : app.get_subcommands({})) known.push_back(command->get_name());
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
-    if (word.empty() || word[0] == '-') continue;
+    if (word == "-h" || word == "--help" || word == "--version") continue;
+    if (word.empty() || word[0] == '-') return std::nullopt;
     if (std::find(known.begin(), known.end(), word) != known.end()) return std::nullopt;
     const auto suggestion = config::nearest(word, known);
     return fmt::format("unknown command '{}'; {}", word,
@@ -66,6 +68,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     add_run_command(app, action);
     add_check_command(app, action, out, err);
     add_version_command(app, action, out);
+    add_shapes_command(app, action, out, err);
     if (auto message = unknown_command(app, argc, argv)) return usage_error(err, *message);
     try {
       app.parse(argc, argv);

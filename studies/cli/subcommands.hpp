@@ -14,5 +14,6 @@ using Action = std::function<int()>;
 void add_run_command(CLI::App& app, Action& action);
 void add_check_command(CLI::App& app, Action& action, std::ostream& out, std::ostream& err);
 void add_version_command(CLI::App& app, Action& action, std::ostream& out);
+void add_shapes_command(CLI::App& app, Action& action, std::ostream& out, std::ostream& err);
 
 }  // namespace mfdem::cli

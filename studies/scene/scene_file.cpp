@@ -6,6 +6,7 @@
 
 #include "studies/config/config.hpp"
 #include "studies/scene/sphere_sources.hpp"
+#include "studies/scene/stone_sources.hpp"
 
 namespace mfdem::scene {
 namespace {
@@ -140,18 +141,26 @@ Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t>
     auto more = generate_sphere_group(s, scene.materials, group_seed++);
     scene.spheres.insert(scene.spheres.end(), more.begin(), more.end());
   }
+  std::int64_t first_stone = 0;
+  for (const auto& s : root.sections("stone_group")) {
+    auto stones = generate_stone_group(s, scene.materials, scene.seed, first_stone);
+    first_stone += static_cast<std::int64_t>(stones.clumps.size() + stones.balls.size());
+    scene.clumps.insert(scene.clumps.end(), stones.clumps.begin(), stones.clumps.end());
+    scene.spheres.insert(scene.spheres.end(), stones.balls.begin(), stones.balls.end());
+  }
   int wall_index = 0;
   for (const auto& s : root.sections("wall")) read_walls(s, wall_index++, scene);
   root.finish();
-  if (scene.spheres.empty())
-    throw config::ConfigError(file.string() + ": the scene places no spheres; add [[sphere]], "
-                              "[[sphere_file]] or [[sphere_group]]");
+  if (scene.spheres.empty() && scene.clumps.empty())
+    throw config::ConfigError(file.string() + ": the scene places no bodies; add [[sphere]], "
+                              "[[sphere_file]], [[sphere_group]] or [[stone_group]]");
   return scene;
 }
 
 dem::Simulation make_simulation(const Scene& scene) {
   dem::Simulation sim(scene.domain, scene.materials, scene.settings);
   for (const auto& s : scene.spheres) sim.add_sphere(s);
+  for (const auto& c : scene.clumps) sim.add_clump(c);
   for (const auto& w : scene.walls) sim.add_wall(w);
   return sim;
 }

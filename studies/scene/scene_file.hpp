@@ -16,6 +16,7 @@ struct Scene {
   dem::MaterialTable materials;
   dem::SimulationSettings settings;
   std::vector<dem::SphereSpec> spheres;
+  std::vector<dem::ClumpSpec> clumps;
   std::vector<dem::PlaneWall> walls;
   double duration = 0.0;         // s
   double output_interval = 0.0;  // s

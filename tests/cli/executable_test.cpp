@@ -53,7 +53,9 @@ TEST_CASE("an unknown subcommand exits 2 and suggests the nearest", "[cli]") {
   CHECK_THAT(typo.err, StartsWith("mfdem: error: unknown command 'chek'; did you mean 'check'?\n"));
   const auto unknown = run_mfdem({"frobnicate"});
   CHECK(unknown.status == config_error);
-  CHECK_THAT(unknown.err, Contains("unknown command 'frobnicate'; the commands are: run, check, version"));
+  // The list grows with new subcommands; these three are always there.
+  CHECK_THAT(unknown.err, StartsWith("mfdem: error: unknown command 'frobnicate'; the commands are: ") &&
+                              Contains("run") && Contains("check") && Contains("version"));
 }
 
 TEST_CASE("no subcommand is a usage error", "[cli]") {

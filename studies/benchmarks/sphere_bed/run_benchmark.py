@@ -27,6 +27,7 @@ import shutil
 import statistics
 import subprocess
 import sys
+import time
 import tomllib
 from pathlib import Path
 
@@ -57,14 +58,15 @@ SETTLE_TAU = 0.02          # s, time constant of the zero-temperature Langevin d
 SETTLE_CHUNK = 1000
 SETTLE_MAX_CHUNKS = 200
 SETTLE_VTOL = 1.0e-3       # m/s: a sphere faster than this is "moving"
-SETTLE_MOVE_FRAC = 0.002   # settled when at most this fraction of the spheres moves
+SETTLE_MOVE_FRAC = 0.005   # settled when at most this fraction of the spheres moves
 LATTICE_SPACING = 1.1 * DIAMETER
 LATTICE_JITTER = 0.0015    # m, < (spacing - d) / 2 so that no two spheres overlap
 INITIAL_SPEED = 0.05       # m/s, bound of the uniform random velocity components
 
 LOOP_RE = re.compile(
     r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-CONTACTS_RE = re.compile(r"BENCH_CONTACTS_PER_SPHERE\s+([0-9.eE+-]+)")
+CONTACTS_RE = re.compile(
+    r"BENCH_CONTACTS_PER_SPHERE\s+([0-9.eE+-]+) WALL_CONTACTS_PER_SPHERE\s+([0-9.eE+-]+)")
 MFDEM_KEYS = ("steps", "elements", "wall_seconds", "element_steps_per_second",
               "contacts_per_element", "peak_rss_bytes")
 
@@ -118,7 +120,8 @@ def load_template() -> tuple[str, dict]:
     return text, scene
 
 
-def set_toml_value(text: str, section: str, key: str, literal: str) -> str:
+def set_toml_value(text: str, section: str, key: str, literal: str,
+                   comment: str | None = None) -> str:
     """Replace `key = ...` in table `section` (first [[section]] for arrays), keeping comments."""
     out, current, done = [], None, False
     for line in text.splitlines(keepends=True):
@@ -128,7 +131,8 @@ def set_toml_value(text: str, section: str, key: str, literal: str) -> str:
         elif not done and current == section:
             km = re.match(rf"(\s*{re.escape(key)}\s*=\s*)([^#\n]*?)(\s*(#.*)?)$", line.rstrip("\n"))
             if km:
-                line = km.group(1) + literal + km.group(3) + "\n"
+                rest = km.group(3) if comment is None else f"  # {comment}"
+                line = km.group(1) + literal + rest + "\n"
                 done = True
         out.append(line)
     if not done:
@@ -139,7 +143,8 @@ def set_toml_value(text: str, section: str, key: str, literal: str) -> str:
 def write_scene(template: str, path: Path, bed: Path, steps: int, mu_r: float) -> None:
     duration = repr(steps * DT)
     text = template
-    text = set_toml_value(text, "simulation", "duration", duration)
+    text = set_toml_value(text, "simulation", "duration", duration,
+                          f"s  ({steps} steps at dt = {DT:g})")
     text = set_toml_value(text, "simulation", "output_interval", duration)
     text = set_toml_value(text, "materials.ballast", "rolling_friction", repr(mu_r))
     text = set_toml_value(text, "materials.wall", "rolling_friction", repr(mu_r))
@@ -279,7 +284,7 @@ def settle(workdir: Path, n: int, seed: int, ranks: int, lmp: str) -> dict:
         raise BenchmarkError(f"LAMMPS settling failed (exit {proc.returncode}); see "
                              f"{rel(workdir / 'settle.log')}\n{tail(logtext + proc.stderr)}")
     steps_total = sum(int(m.group(3)) for m in LOOP_RE.finditer(logtext))
-    done = re.search(r"SETTLE_DONE energy_per_sphere\s+(\S+) moving_fraction\s+(\S+)", logtext)
+    done = re.search(r"SETTLE_DONE energy_per_sphere\s+([0-9.eE+-]+) moving_fraction\s+([0-9.eE+-]+)", logtext)
     energy, moving = float(done.group(1)), float(done.group(2))
     rows = []
     for line in dump.read_text().splitlines():
@@ -305,6 +310,7 @@ def settle(workdir: Path, n: int, seed: int, ranks: int, lmp: str) -> dict:
         "settle_ranks": ranks, "settle_steps": steps_total, "settle_dt": SETTLE_DT,
         "settle_simulated_seconds": steps_total * SETTLE_DT, "settle_wall_seconds": seconds,
         "final_energy_per_sphere": energy, "final_moving_fraction": moving,
+        "moving_speed": SETTLE_VTOL, "allowed_moving_fraction": SETTLE_MOVE_FRAC,
         "lammps": package_version("lammps"),
         "date": datetime.datetime.now().isoformat(timespec="seconds"),
     }
@@ -367,39 +373,84 @@ def tail(text: str, lines: int = 25) -> str:
     return "\n".join(text.strip().splitlines()[-lines:])
 
 
-def run_measured(cmd: list[str], ranks: int, cwd: Path, tag: str, env: dict) -> tuple[str, int]:
+def cpu_ticks() -> tuple[int, int]:
+    """(busy, total) clock ticks of all CPUs since boot, from /proc/stat."""
+    try:
+        fields = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:9]]
+    except (OSError, ValueError):
+        return 0, 0
+    user, nice, system, idle, iowait, irq, softirq, steal = fields
+    return user + nice + system + irq + softirq + steal, sum(fields)
+
+
+CLK_TCK = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+
+
+def busy_cores(seconds: float) -> float:
+    """CPU cores kept busy by all processes over the next `seconds`."""
+    b0, _ = cpu_ticks()
+    time.sleep(seconds)
+    b1, _ = cpu_ticks()
+    return (b1 - b0) / CLK_TCK / seconds
+
+
+def wait_until_idle(max_wait: float, threshold: float = 0.25) -> float:
+    """Waits (at most max_wait s) until other processes use less than `threshold` cores;
+    returns the last measured load in cores."""
+    deadline = time.monotonic() + max_wait
+    load = busy_cores(1.0)
+    announced = False
+    while load > threshold and time.monotonic() < deadline:
+        if not announced:
+            log(f"  machine busy ({load:.2f} cores in use by other processes); waiting up to "
+                f"{max_wait:.0f} s for it to calm down ...")
+            announced = True
+        load = busy_cores(2.0)
+    return load
+
+
+def run_measured(cmd: list[str], ranks: int, cwd: Path, tag: str, env: dict) -> tuple[str, dict]:
     """Runs cmd (under mpirun for ranks > 1), each process wrapped by /usr/bin/time -v.
-    Returns (stdout + stderr, summed per-process maximum resident set size in bytes)."""
+    Returns stdout + stderr and {rss: summed per-process maximum resident set size in bytes,
+    foreign: average CPU cores used by other processes during the run}."""
     timefile = cwd / f"{tag}.time"
     for old in cwd.glob(f"{tag}.time.*"):
         old.unlink()
     wrapper = ["sh", "-c",
                'exec /usr/bin/time -v -o "$0.${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}" "$@"',
                str(timefile)]
+    busy0, _ = cpu_ticks()
+    t0 = time.monotonic()
     proc = subprocess.run(mpi_prefix(ranks) + wrapper + cmd, cwd=cwd, env=env,
                           capture_output=True, text=True)
+    wall = time.monotonic() - t0
+    busy1, _ = cpu_ticks()
     output = proc.stdout + proc.stderr
     (cwd / f"{tag}.out").write_text(output)
     if proc.returncode != 0:
         raise BenchmarkError(f"{tag} failed (exit {proc.returncode}): {shlex.join(cmd)}\n"
                              f"{tail(output)}")
-    rss = 0
+    rss, own_cpu = 0, 0.0
     files = sorted(cwd.glob(f"{tag}.time.*"))
     if len(files) != ranks:
         raise BenchmarkError(f"{tag}: expected {ranks} /usr/bin/time reports, found {len(files)}")
     for tf in files:
-        m = re.search(r"Maximum resident set size \(kbytes\):\s*(\d+)", tf.read_text())
+        text = tf.read_text()
+        m = re.search(r"Maximum resident set size \(kbytes\):\s*(\d+)", text)
         if not m:
             raise BenchmarkError(f"{tag}: no maximum resident set size in {tf}")
         rss += int(m.group(1)) * 1024
-    return output, rss
+        own_cpu += sum(float(v) for v in re.findall(r"(?:User|System) time \(seconds\):\s*([0-9.]+)",
+                                                    text))
+    foreign = max(0.0, (busy1 - busy0) / CLK_TCK - own_cpu) / wall if wall > 0 else 0.0
+    return output, {"rss": rss, "foreign": foreign}
 
 
 def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: int, n: int,
              rundir: Path, tag: str) -> dict:
     script = HERE / ("in.bench.lmp" if code == "lammps" else "in.bench.liggghts")
     var = {"datafile": str(data), "steps": steps, "dt": DT, "kn": KN, "kt": KT,
-           "gn_pp": GAMMA_PP, "gn_pw": GAMMA_PW, "mu": MU, "skin": SKIN}
+           "gn_pp": GAMMA_PP, "gn_pw": GAMMA_PW, "mu": MU, "skin": SKIN, "radius": RADIUS}
     if code == "liggghts":
         var.update(mur=MU_R, rolling=int(rolling))
     cmd = [exe, "-in", str(script), "-log", f"{tag}.log"]
@@ -407,7 +458,7 @@ def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: 
         cmd.append("-nocite")
     for k, v in var.items():
         cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
-    output, rss = run_measured(cmd, ranks, rundir, tag, peer_env())
+    output, measured = run_measured(cmd, ranks, rundir, tag, peer_env())
     loop = LOOP_RE.search(output)
     contacts = CONTACTS_RE.search(output)
     if not loop or not contacts:
@@ -417,8 +468,9 @@ def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: 
     if procs != ranks or got_steps != steps or atoms != n:
         raise BenchmarkError(f"{tag}: ran {got_steps} steps with {atoms} atoms on {procs} procs, "
                              f"expected {steps}, {n}, {ranks}")
+    coordination, wall = float(contacts.group(1)), float(contacts.group(2))
     return {"seconds": seconds, "sps": n * steps / seconds,
-            "contacts": float(contacts.group(1)), "rss": rss}
+            "contacts": coordination / 2.0 + wall, "coordination": coordination, **measured}
 
 
 def run_mfdem(exe: str, threads: int, scene: Path, steps: int, n: int, rundir: Path,
@@ -429,7 +481,7 @@ def run_mfdem(exe: str, threads: int, scene: Path, steps: int, n: int, rundir: P
     env = dict(os.environ)
     env["OMP_NUM_THREADS"] = str(threads)
     cmd = [exe, "run", str(scene), "--out", str(out), "--threads", str(threads), "--quiet"]
-    _, rss = run_measured(cmd, 1, rundir, tag, env)
+    _, measured = run_measured(cmd, 1, rundir, tag, env)
     summary_path = out / "summary.toml"
     if not summary_path.exists():
         raise BenchmarkError(f"{tag}: mfdem wrote no {rel(summary_path)}")
@@ -447,8 +499,63 @@ def run_mfdem(exe: str, threads: int, scene: Path, steps: int, n: int, rundir: P
         log(f"  warning: {tag}: element_steps_per_second {sps:.4g} differs from "
             f"steps*elements/wall_seconds {check:.4g}")
     return {"seconds": float(summary["wall_seconds"]), "sps": sps,
-            "contacts": float(summary["contacts_per_element"]), "rss": rss,
-            "rss_self": int(summary["peak_rss_bytes"])}
+            "contacts": float(summary["contacts_per_element"]),
+            "rss_self": int(summary["peak_rss_bytes"]), **measured}
+
+
+# --- contact-law check --------------------------------------------------------------
+LAW_CHECK_SPHERES = [  # x y z, vx vy vz: a floor impact and an oblique head-on pair impact
+    ((0.5, 0.5, 0.03), (0.3, 0.0, -1.0)),
+    ((0.2, 0.5, 0.5), (0.5, 0.0, 0.0)),
+    ((0.3, 0.5, 0.52), (-0.5, 0.0, 0.0)),
+]
+LAW_CHECK_STEPS = 8000
+
+
+def check_law(exes: dict, workdir: Path) -> list[str]:
+    """Single impacts without gravity in LAMMPS and LIGGGHTS; returns report lines."""
+    workdir.mkdir(parents=True, exist_ok=True)
+    data = workdir / "law_check.data"
+    with data.open("w") as f:
+        f.write("sphere_bed benchmark: contact-law check\n\n3 atoms\n2 atom types\n\n"
+                "0.0 1.0 xlo xhi\n0.0 1.0 ylo yhi\n-0.1 1.5 zlo zhi\n\nAtoms\n\n")
+        for k, ((x, y, z), _) in enumerate(LAW_CHECK_SPHERES, 1):
+            f.write(f"{k} 1 {DIAMETER!r} {DENSITY!r} {x!r} {y!r} {z!r}\n")
+        f.write("\nVelocities\n\n")
+        for k, (_, (vx, vy, vz)) in enumerate(LAW_CHECK_SPHERES, 1):
+            f.write(f"{k} {vx!r} {vy!r} {vz!r} 0.0 0.0 0.0\n")
+    finals = {}
+    for code in ("lammps", "liggghts"):
+        if code not in exes:
+            continue
+        script = HERE / ("in.bench.lmp" if code == "lammps" else "in.bench.liggghts")
+        dump = workdir / f"law_check_{code}.dump"
+        cmd = [exes[code], "-in", str(script), "-log", "none", "-var", "datafile", str(data),
+               "-var", "steps", str(LAW_CHECK_STEPS), "-var", "gravity", "0.0",
+               "-var", "finaldump", str(dump), "-var", "dumpfinal", "1"]
+        proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, env=peer_env())
+        if proc.returncode != 0 or not dump.exists():
+            raise BenchmarkError(f"contact-law check failed in {code}\n"
+                                 f"{tail(proc.stdout + proc.stderr)}")
+        rows = {}
+        for line in dump.read_text().splitlines():
+            parts = line.split()
+            if len(parts) == 7 and parts[0].isdigit():
+                rows[int(parts[0])] = [float(v) for v in parts[1:]]
+        finals[code] = rows
+    lines = [f"Single impacts, no gravity, {LAW_CHECK_STEPS} steps of {DT:g} s: sphere 1 hits "
+             "the floor at (vx, vz) = (0.3, -1) m/s; spheres 2 and 3 meet at +-0.5 m/s in x with "
+             "a 20 mm offset in z. Final velocities (m/s) and spins (rad/s):", "",
+             "| code | 1: vx | 1: vz | 1: wy | 2: vx | 2: vz | 2: wy |",
+             "|---|---:|---:|---:|---:|---:|---:|"]
+    for code, rows in finals.items():
+        a, b = rows[1], rows[2]
+        lines.append(f"| {CODE_NAMES[code]} | {a[0]:.5f} | {a[2]:.5f} | {a[4]:.4f} | "
+                     f"{b[0]:.5f} | {b[2]:.5f} | {b[4]:.4f} |")
+    lines += ["", "Normal restitution without tension is 0.4611 (LAMMPS and LIGGGHTS agree); with "
+              "the tensile damping tail it would be exp(-pi beta / sqrt(1 - beta^2)) = "
+              f"{math.exp(-math.pi * BETA / math.sqrt(1 - BETA ** 2)):.4f}.", ""]
+    return lines
 
 
 # --- reporting -------------------------------------------------------------------------
@@ -514,13 +621,15 @@ def summarise(samples: list[dict]) -> dict:
             "contacts": statistics.median(s["contacts"] for s in samples),
             "rss": max(s["rss"] for s in samples),
             "rss_self": max((s.get("rss_self", 0) for s in samples), default=0),
+            "foreign": max(s["foreign"] for s in samples),
             "repeats": len(samples)}
 
 
 CODE_NAMES = {"mfdem": "mfdem", "lammps": "LAMMPS", "liggghts": "LIGGGHTS"}
 
 
-def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path, notes) -> str:
+def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path, notes,
+           law: list[str]) -> str:
     def label(code, rolling):
         if not rolling:
             return CODE_NAMES[code]
@@ -534,7 +643,8 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
             f"settled in a 1 m x 1 m box (floor and four side walls, open top); bed top "
             f"{bed_stats['top']:.3f} m, solid fraction {bed_stats['solid_fraction']:.3f}. "
             f"Timed: {steps} steps of dt = {DT:g} s with gravity -9.81 m/s^2, starting at rest "
-            "from the stored positions (no contact history).",
+            "from the stored positions (no contact history). Contact law below; the settling "
+            "(LAMMPS) added tangential damping and a drag, see README.md.",
             "",
             f"Contact law, per contact: linear spring kn = {KN:.3g} N/m, incremental tangential "
             f"spring kt = 2/7 kn = {KT:.6g} N/m capped by Coulomb mu = {MU}, viscous normal "
@@ -545,14 +655,18 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
             f"rolling_friction = {MU_R} on both materials; LIGGGHTS rolling_friction epsd2 with "
             f"coefficientRollingFriction = {MU_R} on all pairs.",
             "",
-            f"Settled bed (geometry as stored): {bed_stats['coordination']:.2f} sphere-sphere "
-            f"contacts per sphere, {bed_stats['wall_contacts'] / n:.3f} wall contacts per sphere, "
+            f"Settled bed (geometry as stored): "
+            f"{(bed_stats['pair_contacts'] + bed_stats['wall_contacts']) / n:.3f} contacts per "
+            f"sphere ({bed_stats['pair_contacts']} sphere-sphere, {bed_stats['wall_contacts']} "
+            f"sphere-wall; coordination number {bed_stats['coordination']:.2f}), "
             f"largest overlap {bed_stats['max_overlap'] * 1e6:.2f} um. Settled once by LAMMPS "
             f"on {settle_meta['settle_ranks']} rank(s): {settle_meta['settle_steps']} steps of "
             f"{settle_meta['settle_dt']:g} s ({settle_meta['settle_simulated_seconds']:.2f} s "
             f"simulated) in {settle_meta['settle_wall_seconds']:.0f} s wall, with a final drag "
-            f"stage until no more than {SETTLE_MOVE_FRAC:.1%} of the spheres moved faster than "
-            f"{SETTLE_VTOL * 1000:g} mm/s (at the end: "
+            f"stage until no more than "
+            f"{settle_meta.get('allowed_moving_fraction', SETTLE_MOVE_FRAC):.1%} of the spheres "
+            f"moved faster than {settle_meta.get('moving_speed', SETTLE_VTOL) * 1000:g} mm/s "
+            f"(at the end: "
             f"{settle_meta['final_moving_fraction']:.2%}, kinetic energy "
             f"{settle_meta['final_energy_per_sphere']:.2g} J per sphere).", ""]
 
@@ -560,14 +674,18 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
             "Sphere-steps per second = spheres x steps / seconds of the stepping loop (LAMMPS and "
             "LIGGGHTS: their 'Loop time'; mfdem: wall_seconds of summary.toml). "
             f"Median of {args.repeats} repeat(s), run interleaved. Threads/ranks: mfdem OpenMP "
-            "threads, peers MPI ranks. Contacts per sphere: sphere-sphere contacts counted at "
-            "both spheres (peers: compute contact/atom at the last step; mfdem: "
-            "contacts_per_element), walls excluded. Peak RSS: /usr/bin/time -v maximum resident "
+            "threads, peers MPI ranks. Contacts per sphere at the last step, as mfdem counts them: "
+            "(sphere-sphere + sphere-wall contacts) / spheres, each contact once (mfdem: "
+            "contacts_per_element; peers: compute contact/atom coordination / 2 + walls touched "
+            "per sphere). Peak RSS: /usr/bin/time -v maximum resident "
             "set size, summed over ranks; it includes each process's fixed libraries and "
-            "buffers, so bytes per sphere overstate the per-sphere cost at small N.", ""]
+            "buffers, so bytes per sphere overstate the per-sphere cost at small N. Other load: "
+            "CPU cores used by other processes during the run (from /proc/stat minus the run's "
+            "own CPU time), largest over the repeats; above about 0.1 the timing is disturbed.",
+            ""]
     out += ["| code | threads/ranks | median M sphere-steps/s | min - max | speed-up vs 1 | "
-            "contacts/sphere | peak RSS MB | bytes/sphere | mfdem / this |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            "contacts/sphere | peak RSS MB | bytes/sphere | mfdem / this | other load |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for (code, procs, rolling) in configs:
         s = results.get((code, procs, rolling))
         if s is None:
@@ -578,7 +696,8 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
         ratio = "-" if code == "mfdem" or mf is None else f"{mf['median'] / s['median']:.2f}"
         out.append(f"| {label(code, rolling)} | {procs} | {fmt_msps(s['median'])} | "
                    f"{fmt_msps(s['min'])} - {fmt_msps(s['max'])} | {speedup} | "
-                   f"{s['contacts']:.2f} | {s['rss'] / 1e6:.1f} | {s['rss'] / n:.0f} | {ratio} |")
+                   f"{s['contacts']:.3f} | {s['rss'] / 1e6:.1f} | {s['rss'] / n:.0f} | {ratio} | "
+                   f"{s['foreign']:.2f} |")
     out.append("")
     rows = []
     for (code, procs, rolling) in configs:
@@ -596,6 +715,7 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
         out += ["mfdem's own peak_rss_bytes (summary.toml): " + ", ".join(
             f"{label(c, r)} {p}: {results[(c, p, r)]['rss_self'] / 1e6:.1f} MB"
             for (c, p, r) in configs if c == "mfdem" and (c, p, r) in results), ""]
+    out += ["## Contact-law check (peers)", ""] + law
     out += ["## Machine", ""] + machine_description(mfdem_path) + [""]
     if notes:
         out += ["## Notes", ""] + [f"- {x}" for x in notes] + [""]
@@ -622,9 +742,16 @@ def main() -> int:
     ap.add_argument("--out", default=None, help="markdown report (default "
                     "results/benchmarks/sphere_bed.md; scratch/ with --quick)")
     ap.add_argument("--resettle", action="store_true", help="settle the bed again")
+    ap.add_argument("--check-law", action="store_true",
+                    help="only run the single-impact check of the contact law in the peers")
+    ap.add_argument("--prepare-only", action="store_true",
+                    help="settle (if not cached) and write the inputs, then stop")
     ap.add_argument("--quick", action="store_true",
                     help=f"smoke run: {N_QUICK} spheres, 1000 steps, 1 repeat")
     ap.add_argument("--seed", type=int, default=12345, help="seed of the initial lattice")
+    ap.add_argument("--wait-idle", type=float, default=120.0, metavar="SECONDS",
+                    help="before each timed run, wait up to this long for other processes to "
+                    "leave the CPUs idle (default 120; 0 = do not wait)")
     ap.add_argument("--scratch", default="scratch/benchmarks/sphere_bed",
                     help="cache and run folder (default scratch/benchmarks/sphere_bed)")
     args = ap.parse_args()
@@ -668,6 +795,9 @@ def main() -> int:
     if max(threads) > max_ranks():
         notes.append(f"more threads/ranks requested than the {max_ranks()} logical CPUs.")
 
+    if args.check_law:
+        log("\n".join(check_law(exes, scratch / "law_check")))
+        return 0
     template, scene = load_template()
     rundir.mkdir(parents=True, exist_ok=True)
     bed_txt, settle_meta = prepare(args, n, workdir, lmp)
@@ -681,8 +811,9 @@ def main() -> int:
         raise BenchmarkError(f"the bed top {stats['top']:.3f} m does not fit under the domain/box "
                              f"top of bed.toml ({dmax[2]} m, {wall_top} m)")
     log(f"bed: {n} spheres, top {stats['top']:.3f} m, solid fraction "
-        f"{stats['solid_fraction']:.3f}, {stats['coordination']:.2f} sphere-sphere contacts "
-        f"per sphere, {stats['wall_contacts']} wall contacts, max overlap "
+        f"{stats['solid_fraction']:.3f}, {stats['pair_contacts']} sphere-sphere and "
+        f"{stats['wall_contacts']} wall contacts "
+        f"({(stats['pair_contacts'] + stats['wall_contacts']) / n:.3f} per sphere), max overlap "
         f"{stats['max_overlap'] * 1e6:.2f} um")
     data = workdir / "bed.data"
     write_peer_data(data, bed, dmin, dmax)
@@ -690,6 +821,10 @@ def main() -> int:
     for rolling in (False, True):
         scenes[rolling] = workdir / ("bed_rolling.toml" if rolling else "bed.toml")
         write_scene(template, scenes[rolling], bed_txt, steps, MU_R if rolling else 0.0)
+
+    if args.prepare_only:
+        log(f"prepared {rel(workdir)}: bed.txt, bed.data, bed.toml, bed_rolling.toml")
+        return 0
 
     configs = []
     for code in ("mfdem", "lammps", "liggghts"):
@@ -712,6 +847,8 @@ def main() -> int:
     for rep in range(1, args.repeats + 1):
         for code, procs, rolling in configs:
             k += 1
+            if args.wait_idle > 0:
+                wait_until_idle(args.wait_idle)
             tag = f"{code}_{'roll' if rolling else 'base'}_p{procs}_rep{rep}"
             if code == "mfdem":
                 res = run_mfdem(exes["mfdem"], procs, scenes[rolling], steps, n, rundir, tag)
@@ -721,9 +858,22 @@ def main() -> int:
             log(f"[{k}/{total}] {CODE_NAMES[code]:8s} {'rolling' if rolling else 'base   '} "
                 f"{procs} {'thread(s)' if code == 'mfdem' else 'rank(s)  '} rep {rep}: "
                 f"{res['sps'] / 1e6:6.2f} M sphere-steps/s ({res['seconds']:.2f} s), "
-                f"{res['contacts']:.2f} contacts/sphere, peak RSS {res['rss'] / 1e6:.1f} MB")
+                f"{res['contacts']:.3f} contacts/sphere, peak RSS {res['rss'] / 1e6:.1f} MB, "
+                f"other processes {res['foreign']:.2f} cores")
     results = {c: summarise(s) for c, s in samples.items()}
-    text = report(args, n, steps, results, configs, stats, settle_meta, mfdem_path, notes)
+    for procs in threads:
+        mf, peer = results.get(("mfdem", procs, False)), results.get(("lammps", procs, False))
+        if mf and peer and peer["contacts"] > 0 and abs(mf["contacts"] / peer["contacts"] - 1) > 0.05:
+            notes.append(f"contacts per sphere differ by more than 5 %: mfdem {mf['contacts']:.3f}, "
+                         f"LAMMPS {peer['contacts']:.3f} ({procs} threads/ranks); the codes do "
+                         "not see the same contacts, or count them differently.")
+            break
+    busy = [f"{CODE_NAMES[c]} {p}" for (c, p, r), v in results.items() if v["foreign"] > 0.1]
+    if busy:
+        notes.append("other processes used more than 0.1 core during some runs ("
+                     + ", ".join(sorted(set(busy))) + "): those timings are disturbed.")
+    law = check_law(exes, scratch / "law_check")
+    text = report(args, n, steps, results, configs, stats, settle_meta, mfdem_path, notes, law)
     out_path.parent.mkdir(parents=True, exist_ok=True)
     out_path.write_text(text)
     (workdir / "results.json").write_text(json.dumps(
