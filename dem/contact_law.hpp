@@ -95,7 +95,8 @@ inline double spring_with_slip(Vec3& spring, const Vec3& rate, double stiffness,
 
 // --- the composed law ---------------------------------------------------------------------
 
-inline ContactOutcome evaluate_contact(const PairParameters& p, const ContactGeometry& g,
+// Always inlined: it is the innermost call of the pair loop (measured 28 % of a bed's step as a call).
+[[gnu::always_inline]] inline ContactOutcome evaluate_contact(const PairParameters& p, const ContactGeometry& g,
                                        ContactHistory& history, double dt) {
   ContactOutcome out;
   const Vec3& n = g.normal;

@@ -134,6 +134,7 @@ void Simulation::prepare() {
   const Index ne = elements_.size();
   const std::size_t nw = walls_.size();
   wall_history_.assign(ne * nw, ContactHistory{});
+  wall_active_.assign(ne * nw, 0);
   wall_force_.assign(nw, Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
@@ -389,9 +390,13 @@ void Simulation::gather_and_kick() {
         const Vec3& xe = elements_.position[e];
         for (std::size_t w = 0; w < nw; ++w) {
           const PlaneWall& wall = walls_[w];
-          ContactHistory& history = wall_history_[e * nw + w];
           const double gap = (xe - wall.point).dot(wall.normal);
+          // Most elements touch no wall: test the flag before touching the 56-byte history.
+          std::uint8_t& active = wall_active_[e * nw + w];
+          if (gap >= re && !active) continue;
+          ContactHistory& history = wall_history_[e * nw + w];
           if (gap >= re) {
+            active = 0;
             if (history.shear_force.squaredNorm() + history.rolling_moment.squaredNorm() > 0.0) {
               const Vec3& n = wall.normal;
               const Vec3 v = vb + wb.cross(xe - xb - re * n) - wall.velocity;
@@ -402,6 +407,7 @@ void Simulation::gather_and_kick() {
             history = ContactHistory{};
             continue;
           }
+          active = 1;
           // The wall is body a, the element body b: n points from the wall into the domain.
           ContactGeometry g;
           g.normal = wall.normal;

@@ -140,7 +140,7 @@ class Simulation {
   void check_stability();
   void update_element_positions(Index b);
   Index add_body(const ClumpSpec& body);
-  void kick(Index b, const Vec3& force, const Vec3& torque, double h);
+  [[gnu::always_inline]] inline void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
   // Throws StabilityError naming the step being taken, or the one just completed.
   void fail(const std::string& what, Index body, bool step_completed = false) const;
@@ -161,6 +161,7 @@ class Simulation {
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
+  std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
   std::vector<Vec3> build_position_;          // element positions at the last build
   double skin_ = 0.0;
 
