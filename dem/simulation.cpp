@@ -271,11 +271,17 @@ void Simulation::rebuild() {
 void Simulation::evaluate_pairs() {
   const Index np = pairs_.size();
   const Index chunks = chunk_count(np);
+  const bool fused = omp_get_max_threads() == 1;
+  fused_pairs_ = fused;
+  if (fused) {
+    element_force_.assign(elements_.size(), Vec3::Zero());
+    element_torque_.assign(elements_.size(), Vec3::Zero());
+  }
   pair_chunk_energy_.assign(chunks, ChunkEnergy{});
   const Vec3 length = domain_.length();
   const double dt = dt_;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
-#pragma omp parallel for schedule(static) if (chunks > 1)
+#pragma omp parallel for schedule(static) if (chunks > 1 && !fused)
   for (Index c = 0; c < chunks; ++c) {
     ChunkEnergy acc;
     const Index end = chunk_end(c, np);
@@ -326,9 +332,21 @@ void Simulation::evaluate_pairs() {
       g.rolling_radius = ri * rj / reach;
       const ContactOutcome out = evaluate_contact(
           materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
-      pair_force_[p] = out.force;
-      pair_torque_first_[p] = -arm_i.cross(out.force) - out.rolling_moment;
-      pair_torque_second_[p] = arm_j.cross(out.force) + out.rolling_moment;
+      const Vec3 torque_i = -arm_i.cross(out.force) - out.rolling_moment;
+      const Vec3 torque_j = arm_j.cross(out.force) + out.rolling_moment;
+      if (fused) {
+        // One thread: add straight into the elements, in pair order. Element e then sums the
+        // pairs where it is second, then its own row, in increasing pair index: exactly the
+        // order of the gather below, so the result is bitwise that of any thread count.
+        element_force_[i] -= out.force;
+        element_torque_[i] += torque_i;
+        element_force_[j] += out.force;
+        element_torque_[j] += torque_j;
+      } else {
+        pair_force_[p] = out.force;
+        pair_torque_first_[p] = torque_i;
+        pair_torque_second_[p] = torque_j;
+      }
       acc.damping += out.dissipated_damping;
       acc.friction += out.dissipated_friction;
     }
@@ -375,16 +393,22 @@ void Simulation::gather_and_kick() {
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
         Vec3 fe = Vec3::Zero();
         Vec3 te = Vec3::Zero();
-        for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) {
-          if (!pair_active_[p]) continue;
-          fe -= pair_force_[p];
-          te += pair_torque_first_[p];
-        }
-        for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
-          const Index p = pairs_.as_second_pair[k];
-          if (!pair_active_[p]) continue;
-          fe += pair_force_[p];
-          te += pair_torque_second_[p];
+        if (fused_pairs_) {
+          fe = element_force_[e];
+          te = element_torque_[e];
+        } else {
+          // Pairs where e is second come first: they precede e's own row in pair order.
+          for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
+            const Index p = pairs_.as_second_pair[k];
+            if (!pair_active_[p]) continue;
+            fe += pair_force_[p];
+            te += pair_torque_second_[p];
+          }
+          for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) {
+            if (!pair_active_[p]) continue;
+            fe -= pair_force_[p];
+            te += pair_torque_first_[p];
+          }
         }
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];

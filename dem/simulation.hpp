@@ -160,6 +160,9 @@ class Simulation {
   std::vector<Vec3> pair_torque_first_;  // about the first element's centre
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
+  // On one thread the pair loop adds into the elements directly (no per-pair store + gather).
+  bool fused_pairs_ = false;
+  std::vector<Vec3> element_force_, element_torque_;
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
   std::vector<Vec3> build_position_;          // element positions at the last build
