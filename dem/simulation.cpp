@@ -268,101 +268,150 @@ void Simulation::rebuild() {
   ++rebuilds_;
 }
 
+// One pair's contact for this step: updates its history and activity flag and returns the
+// forces and torques (zero when apart) and the energy it dissipated.
+Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, double dt) {
+  PairResult out;
+  const Index i = pairs_.first[p], j = pairs_.second[p];
+  const double ri = elements_.radius[i], rj = elements_.radius[j];
+  const Vec3 xi = elements_.position[i];
+  const Vec3 xj = elements_.position[j] + image_shift(pairs_.image[p], length);
+  const Vec3 d = xj - xi;
+  const double reach = ri + rj;
+  const double r2 = d.squaredNorm();
+  const Index bi = elements_.body[i], bj = elements_.body[j];
+  const Vec3& wi = bodies_.angular_velocity[bi];
+  const Vec3& wj = bodies_.angular_velocity[bj];
+  if (r2 >= reach * reach) {
+    if (pair_active_[p]) {
+      pair_active_[p] = 0;
+      const Vec3 n = d.normalized();
+      const Vec3 v =
+          bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] - rj * n) -
+          bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
+      const Vec3 spin = wj - wi;
+      out.friction = released_spring_energy(
+          materials_.pair(elements_.material[i], elements_.material[j]), pair_history_[p],
+          ri * rj / reach, v - v.dot(n) * n, spin - spin.dot(n) * n, dt);
+      pair_history_[p] = ContactHistory{};
+    }
+    return out;
+  }
+  pair_active_[p] = 1;
+  out.active = true;
+  const double r = std::sqrt(r2);
+  ContactGeometry g;
+  g.normal = d / r;
+  g.overlap = reach - r;
+  out.too_deep = g.overlap > settings_.guards.max_overlap_fraction * std::min(ri, rj);
+  const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
+  const Vec3 arm_j = -(rj - 0.5 * g.overlap) * g.normal;
+  const Vec3 vi = bodies_.velocity[bi] + wi.cross(elements_.position[i] - bodies_.position[bi] + arm_i);
+  const Vec3 vj = bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] + arm_j);
+  g.relative_velocity = vj - vi;
+  g.relative_spin = wj - wi;
+  g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
+  const double mi = bodies_.mass[bi], mj = bodies_.mass[bj];
+  g.effective_mass = mi * mj / (mi + mj);
+  g.rolling_radius = ri * rj / reach;
+  const ContactOutcome c = evaluate_contact(
+      materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
+  out.force = c.force;
+  out.torque_first = -arm_i.cross(c.force) - c.rolling_moment;
+  out.torque_second = arm_j.cross(c.force) + c.rolling_moment;
+  out.damping = c.dissipated_damping;
+  out.friction += c.dissipated_friction;
+  return out;
+}
+
+// Pair forces, summed into the elements in increasing pair order whatever the thread count:
+// element e takes the pairs where it is second (all earlier in the list than its own row), then
+// its own row. Each thread owns a block of bodies, their elements and their rows. A pair whose
+// second element lies in a later block is computed first and stored (phase A); then each thread
+// adds the stored pairs of earlier blocks to its elements and walks its rows in order (phase B).
+// One thread is the one-block case: no stored pairs at all.
 void Simulation::evaluate_pairs() {
   const Index np = pairs_.size();
-  const Index chunks = chunk_count(np);
-  const bool fused = omp_get_max_threads() == 1;
-  fused_pairs_ = fused;
-  if (fused) {
-    element_force_.assign(elements_.size(), Vec3::Zero());
-    element_torque_.assign(elements_.size(), Vec3::Zero());
-  }
-  pair_chunk_energy_.assign(chunks, ChunkEnergy{});
+  const Index ne = elements_.size();
+  const Index nb = bodies_.size();
+  const int blocks = np > kChunkSize ? omp_get_max_threads() : 1;
+  element_force_.assign(ne, Vec3::Zero());
+  element_torque_.assign(ne, Vec3::Zero());
+  pair_damping_.resize(np);
+  pair_friction_.resize(np);
   const Vec3 length = domain_.length();
   const double dt = dt_;
-  const double overlap_limit = settings_.guards.max_overlap_fraction;
-#pragma omp parallel for schedule(static) if (chunks > 1 && !fused)
-  for (Index c = 0; c < chunks; ++c) {
-    ChunkEnergy acc;
-    const Index end = chunk_end(c, np);
-    for (Index p = chunk_begin(c); p < end; ++p) {
+  const Index chunks = chunk_count(np);
+  pair_chunk_energy_.assign(chunks, ChunkEnergy{});
+  Index bad_pair = np;
+#pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
+  {
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const Index b0 = static_cast<Index>(static_cast<long long>(nb) * t / nt);
+    const Index b1 = static_cast<Index>(static_cast<long long>(nb) * (t + 1) / nt);
+    const Index e0 = bodies_.element_begin(b0), e1 = bodies_.element_begin(b1);
+    const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
+    auto record = [&](Index p, const PairResult& r) {
+      pair_damping_[p] = r.damping;
+      pair_friction_[p] = r.friction;
+      if (r.too_deep) bad_pair = std::min(bad_pair, p);
+    };
+    for (Index p = p0; p < p1; ++p) {  // phase A
+      if (pairs_.second[p] < e1) continue;
+      const PairResult r = compute_pair(p, length, dt);
+      record(p, r);
+      pair_force_[p] = r.force;
+      pair_torque_first_[p] = r.torque_first;
+      pair_torque_second_[p] = r.torque_second;
+    }
+#pragma omp barrier
+    for (Index e = e0; e < e1; ++e) {  // phase B: stored pairs of earlier blocks
+      for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
+        const Index p = pairs_.as_second_pair[k];
+        if (p >= p0) break;
+        if (!pair_active_[p]) continue;
+        element_force_[e] += pair_force_[p];
+        element_torque_[e] += pair_torque_second_[p];
+      }
+    }
+    for (Index p = p0; p < p1; ++p) {  // phase B: own rows in order
       const Index i = pairs_.first[p], j = pairs_.second[p];
-      const double ri = elements_.radius[i], rj = elements_.radius[j];
-      const Vec3 xi = elements_.position[i];
-      const Vec3 xj = elements_.position[j] + image_shift(pairs_.image[p], length);
-      const Vec3 d = xj - xi;
-      const double reach = ri + rj;
-      const double r2 = d.squaredNorm();
-      if (r2 >= reach * reach) {
-        if (pair_active_[p]) {
-          pair_active_[p] = 0;
-          const Vec3 n = d.normalized();
-          const Index bi = elements_.body[i], bj = elements_.body[j];
-          const Vec3& wi = bodies_.angular_velocity[bi];
-          const Vec3& wj = bodies_.angular_velocity[bj];
-          const Vec3 v =
-              bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] - rj * n) -
-              bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
-          const Vec3 spin = wj - wi;
-          acc.friction += released_spring_energy(
-              materials_.pair(elements_.material[i], elements_.material[j]), pair_history_[p],
-              ri * rj / reach, v - v.dot(n) * n, spin - spin.dot(n) * n, dt);
-          pair_history_[p] = ContactHistory{};
-        }
+      if (j >= e1) {
+        if (!pair_active_[p]) continue;
+        element_force_[i] -= pair_force_[p];
+        element_torque_[i] += pair_torque_first_[p];
         continue;
       }
-      pair_active_[p] = 1;
-      const double r = std::sqrt(r2);
-      ContactGeometry g;
-      g.normal = d / r;
-      g.overlap = reach - r;
-      if (g.overlap > overlap_limit * std::min(ri, rj) && acc.bad_pair < 0) acc.bad_pair = p;
-      const Index bi = elements_.body[i], bj = elements_.body[j];
-      const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
-      const Vec3 arm_j = -(rj - 0.5 * g.overlap) * g.normal;
-      const Vec3& wi = bodies_.angular_velocity[bi];
-      const Vec3& wj = bodies_.angular_velocity[bj];
-      const Vec3 vi = bodies_.velocity[bi] + wi.cross(elements_.position[i] - bodies_.position[bi] + arm_i);
-      const Vec3 vj = bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] + arm_j);
-      g.relative_velocity = vj - vi;
-      g.relative_spin = wj - wi;
-      g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
-      const double mi = bodies_.mass[bi], mj = bodies_.mass[bj];
-      g.effective_mass = mi * mj / (mi + mj);
-      g.rolling_radius = ri * rj / reach;
-      const ContactOutcome out = evaluate_contact(
-          materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
-      const Vec3 torque_i = -arm_i.cross(out.force) - out.rolling_moment;
-      const Vec3 torque_j = arm_j.cross(out.force) + out.rolling_moment;
-      if (fused) {
-        // One thread: add straight into the elements, in pair order. Element e then sums the
-        // pairs where it is second, then its own row, in increasing pair index: exactly the
-        // order of the gather below, so the result is bitwise that of any thread count.
-        element_force_[i] -= out.force;
-        element_torque_[i] += torque_i;
-        element_force_[j] += out.force;
-        element_torque_[j] += torque_j;
-      } else {
-        pair_force_[p] = out.force;
-        pair_torque_first_[p] = torque_i;
-        pair_torque_second_[p] = torque_j;
-      }
-      acc.damping += out.dissipated_damping;
-      acc.friction += out.dissipated_friction;
+      const PairResult r = compute_pair(p, length, dt);
+      record(p, r);
+      if (!r.active) continue;
+      element_force_[i] -= r.force;
+      element_torque_[i] += r.torque_first;
+      element_force_[j] += r.force;
+      element_torque_[j] += r.torque_second;
     }
-    pair_chunk_energy_[c] = acc;
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (Index c = 0; c < chunks; ++c) {  // energy, summed in chunk order
+      ChunkEnergy acc;
+      const Index end = chunk_end(c, np);
+      for (Index p = chunk_begin(c); p < end; ++p) {
+        acc.damping += pair_damping_[p];
+        acc.friction += pair_friction_[p];
+      }
+      pair_chunk_energy_[c] = acc;
+    }
   }
   for (const auto& acc : pair_chunk_energy_) {
     dissipated_damping_ += acc.damping;
     dissipated_friction_ += acc.friction;
-    if (acc.bad_pair >= 0) {
-      const Index p = acc.bad_pair;
-      const Index i = pairs_.first[p], j = pairs_.second[p];
-      fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
-                       "(stiffness too low for the load, or time step too large)",
-                       elements_.body[i], elements_.body[j], overlap_limit),
-           elements_.body[i]);
-    }
+  }
+  if (bad_pair < np) {
+    const Index i = pairs_.first[bad_pair], j = pairs_.second[bad_pair];
+    fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
+                     "(stiffness too low for the load, or time step too large)",
+                     elements_.body[i], elements_.body[j], settings_.guards.max_overlap_fraction),
+         elements_.body[i]);
   }
 }
 
@@ -391,25 +440,8 @@ void Simulation::gather_and_kick() {
       Vec3 torque = Vec3::Zero();
       const Index e_end = bodies_.element_end(b);
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
-        Vec3 fe = Vec3::Zero();
-        Vec3 te = Vec3::Zero();
-        if (fused_pairs_) {
-          fe = element_force_[e];
-          te = element_torque_[e];
-        } else {
-          // Pairs where e is second come first: they precede e's own row in pair order.
-          for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
-            const Index p = pairs_.as_second_pair[k];
-            if (!pair_active_[p]) continue;
-            fe += pair_force_[p];
-            te += pair_torque_second_[p];
-          }
-          for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) {
-            if (!pair_active_[p]) continue;
-            fe -= pair_force_[p];
-            te += pair_torque_first_[p];
-          }
-        }
+        Vec3 fe = element_force_[e];
+        Vec3 te = element_torque_[e];
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];
         for (std::size_t w = 0; w < nw; ++w) {

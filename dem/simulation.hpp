@@ -156,13 +156,19 @@ class Simulation {
 
   PairList pairs_;
   std::vector<ContactHistory> pair_history_;
+  // Pairs that cross two threads' blocks are stored before they are summed.
   std::vector<Vec3> pair_force_;         // on second
   std::vector<Vec3> pair_torque_first_;  // about the first element's centre
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
-  // On one thread the pair loop adds into the elements directly (no per-pair store + gather).
-  bool fused_pairs_ = false;
-  std::vector<Vec3> element_force_, element_torque_;
+  std::vector<Vec3> element_force_, element_torque_;  // pair contacts summed per element
+  std::vector<double> pair_damping_, pair_friction_;  // energy dissipated this step, J
+  struct PairResult {
+    bool active = false, too_deep = false;
+    Vec3 force = Vec3::Zero(), torque_first = Vec3::Zero(), torque_second = Vec3::Zero();
+    double damping = 0.0, friction = 0.0;
+  };
+  [[gnu::always_inline]] inline PairResult compute_pair(Index p, const Vec3& length, double dt);
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
   std::vector<Vec3> build_position_;          // element positions at the last build
