@@ -385,6 +385,7 @@ void Simulation::evaluate_pairs() {
       const PairResult r = compute_pair(p, length, dt);
       record(p, r);
       if (!r.active) continue;
+      pair_force_[p] = r.force;  // kept for contacts() and the output
       element_force_[i] -= r.force;
       element_torque_[i] += r.torque_first;
       element_force_[j] += r.force;
