@@ -138,6 +138,7 @@ void Simulation::prepare() {
   wall_force_.assign(nw, Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
+  all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
   rebuild();
   evaluate_pairs();
@@ -270,6 +271,7 @@ void Simulation::rebuild() {
 
 // One pair's contact for this step: updates its history and activity flag and returns the
 // forces and torques (zero when apart) and the energy it dissipated.
+template <bool kPointBodies>
 Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, double dt) {
   PairResult out;
   const Index i = pairs_.first[p], j = pairs_.second[p];
@@ -279,16 +281,20 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
   const Vec3 d = xj - xi;
   const double reach = ri + rj;
   const double r2 = d.squaredNorm();
-  const Index bi = elements_.body[i], bj = elements_.body[j];
+  // With only spheres, element k is body k and sits at its centre: skip the indirection.
+  const Index bi = kPointBodies ? i : elements_.body[i];
+  const Index bj = kPointBodies ? j : elements_.body[j];
   const Vec3& wi = bodies_.angular_velocity[bi];
   const Vec3& wj = bodies_.angular_velocity[bj];
+  auto lever = [&](Index e, Index b) -> Vec3 {
+    return kPointBodies ? Vec3::Zero() : Vec3(elements_.position[e] - bodies_.position[b]);
+  };
   if (r2 >= reach * reach) {
     if (pair_active_[p]) {
       pair_active_[p] = 0;
       const Vec3 n = d.normalized();
-      const Vec3 v =
-          bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] - rj * n) -
-          bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
+      const Vec3 v = bodies_.velocity[bj] + wj.cross(lever(j, bj) - rj * n) - bodies_.velocity[bi] -
+                     wi.cross(lever(i, bi) + ri * n);
       const Vec3 spin = wj - wi;
       out.friction = released_spring_energy(
           materials_.pair(elements_.material[i], elements_.material[j]), pair_history_[p],
@@ -306,8 +312,8 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
   out.too_deep = g.overlap > settings_.guards.max_overlap_fraction * std::min(ri, rj);
   const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
   const Vec3 arm_j = -(rj - 0.5 * g.overlap) * g.normal;
-  const Vec3 vi = bodies_.velocity[bi] + wi.cross(elements_.position[i] - bodies_.position[bi] + arm_i);
-  const Vec3 vj = bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] + arm_j);
+  const Vec3 vi = bodies_.velocity[bi] + wi.cross(lever(i, bi) + arm_i);
+  const Vec3 vj = bodies_.velocity[bj] + wj.cross(lever(j, bj) + arm_j);
   g.relative_velocity = vj - vi;
   g.relative_spin = wj - wi;
   g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
@@ -331,6 +337,14 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
 // adds the stored pairs of earlier blocks to its elements and walks its rows in order (phase B).
 // One thread is the one-block case: no stored pairs at all.
 void Simulation::evaluate_pairs() {
+  if (all_point_bodies_)
+    evaluate_pairs_of<true>();
+  else
+    evaluate_pairs_of<false>();
+}
+
+template <bool kPointBodies>
+void Simulation::evaluate_pairs_of() {
   const Index np = pairs_.size();
   const Index ne = elements_.size();
   const Index nb = bodies_.size();
@@ -339,9 +353,11 @@ void Simulation::evaluate_pairs() {
   element_torque_.assign(ne, Vec3::Zero());
   pair_damping_.resize(np);
   pair_friction_.resize(np);
+  row_damping_.assign(ne, 0.0);
+  row_friction_.assign(ne, 0.0);
   const Vec3 length = domain_.length();
   const double dt = dt_;
-  const Index chunks = chunk_count(np);
+  const Index chunks = chunk_count(ne);
   pair_chunk_energy_.assign(chunks, ChunkEnergy{});
   Index bad_pair = np;
 #pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
@@ -351,15 +367,19 @@ void Simulation::evaluate_pairs() {
     const Index b1 = static_cast<Index>(static_cast<long long>(nb) * (t + 1) / nt);
     const Index e0 = bodies_.element_begin(b0), e1 = bodies_.element_begin(b1);
     const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
+    // Energy is summed per row (the first element), in pair order, then over elements in
+    // chunk order: the same sums on any thread count.
     auto record = [&](Index p, const PairResult& r) {
-      pair_damping_[p] = r.damping;
-      pair_friction_[p] = r.friction;
+      row_damping_[pairs_.first[p]] += r.damping;
+      row_friction_[pairs_.first[p]] += r.friction;
       if (r.too_deep) bad_pair = std::min(bad_pair, p);
     };
     for (Index p = p0; p < p1; ++p) {  // phase A
       if (pairs_.second[p] < e1) continue;
-      const PairResult r = compute_pair(p, length, dt);
-      record(p, r);
+      const PairResult r = compute_pair<kPointBodies>(p, length, dt);
+      if (r.too_deep) bad_pair = std::min(bad_pair, p);
+      pair_damping_[p] = r.damping;
+      pair_friction_[p] = r.friction;
       pair_force_[p] = r.force;
       pair_torque_first_[p] = r.torque_first;
       pair_torque_second_[p] = r.torque_second;
@@ -377,12 +397,14 @@ void Simulation::evaluate_pairs() {
     for (Index p = p0; p < p1; ++p) {  // phase B: own rows in order
       const Index i = pairs_.first[p], j = pairs_.second[p];
       if (j >= e1) {
+        row_damping_[i] += pair_damping_[p];
+        row_friction_[i] += pair_friction_[p];
         if (!pair_active_[p]) continue;
         element_force_[i] -= pair_force_[p];
         element_torque_[i] += pair_torque_first_[p];
         continue;
       }
-      const PairResult r = compute_pair(p, length, dt);
+      const PairResult r = compute_pair<kPointBodies>(p, length, dt);
       record(p, r);
       if (!r.active) continue;
       pair_force_[p] = r.force;  // kept for contacts() and the output
@@ -395,10 +417,10 @@ void Simulation::evaluate_pairs() {
 #pragma omp for schedule(static)
     for (Index c = 0; c < chunks; ++c) {  // energy, summed in chunk order
       ChunkEnergy acc;
-      const Index end = chunk_end(c, np);
-      for (Index p = chunk_begin(c); p < end; ++p) {
-        acc.damping += pair_damping_[p];
-        acc.friction += pair_friction_[p];
+      const Index end = chunk_end(c, ne);
+      for (Index e = chunk_begin(c); e < end; ++e) {
+        acc.damping += row_damping_[e];
+        acc.friction += row_friction_[e];
       }
       pair_chunk_energy_[c] = acc;
     }

@@ -162,13 +162,18 @@ class Simulation {
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
   std::vector<Vec3> element_force_, element_torque_;  // pair contacts summed per element
-  std::vector<double> pair_damping_, pair_friction_;  // energy dissipated this step, J
+  std::vector<double> pair_damping_, pair_friction_;  // energy of stored pairs this step, J
+  std::vector<double> row_damping_, row_friction_;    // energy of each element's row, J
+  bool all_point_bodies_ = false;                      // spheres only: no body indirection
   struct PairResult {
     bool active = false, too_deep = false;
     Vec3 force = Vec3::Zero(), torque_first = Vec3::Zero(), torque_second = Vec3::Zero();
     double damping = 0.0, friction = 0.0;
   };
+  template <bool kPointBodies>
   [[gnu::always_inline]] inline PairResult compute_pair(Index p, const Vec3& length, double dt);
+  template <bool kPointBodies>
+  void evaluate_pairs_of();
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
   std::vector<Vec3> build_position_;          // element positions at the last build
