@@ -135,7 +135,12 @@ StateFile::StateFile(const std::filesystem::path& path, const Simulation& sim, s
   write_ints(el, "body", sim.elements().body);
   std::vector<Index> material(sim.elements().material.begin(), sim.elements().material.end());
   write_ints(el, "material", material);
+  write_vec3s(el, "offset", sim.elements().offset);
   H5Gclose(el);
+  const hid_t bodies = make_group(file_, "bodies");
+  write_doubles(bodies, "mass", sim.bodies().mass.data(), bodies_, 0);
+  write_vec3s(bodies, "inertia", sim.bodies().inertia);
+  H5Gclose(bodies);
   const hid_t mat = make_group(file_, "materials");
   std::vector<std::string> names;
   for (const auto& m : sim.materials().all()) names.push_back(m.name);
@@ -312,6 +317,24 @@ std::string read_text_attribute(hid_t loc, const std::string& name) {
 
 }  // namespace
 
+std::vector<ClumpSpec> bodies_of(const StateFrame& f, const std::vector<int>& material_of) {
+  std::vector<ClumpSpec> out(f.position.size());
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    out[b].position = f.position[b];
+    out[b].velocity = f.velocity[b];
+    out[b].angular_velocity = f.angular_velocity[b];
+    out[b].orientation = f.orientation[b];
+    out[b].mass = f.mass[b];
+    out[b].principal_inertia = f.inertia[b];
+  }
+  for (std::size_t e = 0; e < f.element_body.size(); ++e) {
+    ClumpSpec& c = out[f.element_body[e]];
+    c.pebbles.push_back({f.element_offset[e], f.element_radius[e]});
+    c.material = material_of[f.element_material[e]];
+  }
+  return out;
+}
+
 int count_frames(const std::filesystem::path& path) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("cannot open HDF5 file " + path.string());
@@ -343,6 +366,26 @@ StateFrame read_frame(const std::filesystem::path& path, int frame) {
   f.velocity = read_vec3s(file, g + "/velocity");
   f.angular_velocity = read_vec3s(file, g + "/angular_velocity");
   f.element_radius = read_doubles(file, "elements/radius");
+  f.element_body = read_ints(file, "elements/body");
+  f.element_material = read_ints(file, "elements/material");
+  f.element_offset = read_vec3s(file, "elements/offset");
+  f.mass = read_doubles(file, "bodies/mass");
+  f.inertia = read_vec3s(file, "bodies/inertia");
+  {
+    const auto q = read_doubles(file, g + "/orientation");
+    for (std::size_t b = 0; b + 3 < q.size(); b += 4) f.orientation.emplace_back(q[b], q[b + 1], q[b + 2], q[b + 3]);
+  }
+  {
+    const hid_t materials = H5Gopen2(file, "materials", H5P_DEFAULT);
+    std::string names = read_text_attribute(materials, "names");
+    H5Gclose(materials);
+    for (std::size_t start = 0; start <= names.size();) {
+      const auto comma = names.find(',', start);
+      f.material_names.push_back(names.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
   f.contact_body_a = read_ints(file, g + "/contact_body_a");
   f.contact_body_b = read_ints(file, g + "/contact_body_b");
   f.contact_force = read_vec3s(file, g + "/contact_force");

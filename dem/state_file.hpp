@@ -6,6 +6,9 @@
 //   /elements/radius        [elements]        m
 //   /elements/body          [elements]        index of the owning body
 //   /elements/material      [elements]        index into /materials names (attribute "names")
+//   /elements/offset        [elements, 3]     from the body's centre, body frame, m
+//   /bodies/mass            [bodies]          kg
+//   /bodies/inertia         [bodies, 3]       principal moments, kg m^2
 //   /walls                  attr "names"
 //   /frames/NNNNNN          attrs: time (s), step
 //       position, velocity, angular_velocity          [bodies, 3]
@@ -57,7 +60,13 @@ struct StateFrame {
   long long step = 0;
   std::string label;  // e.g. "last good state" for the snapshot kept when a guard tripped
   std::vector<Vec3> position, velocity, angular_velocity;
+  std::vector<Quat> orientation;
+  std::vector<double> mass;             // kg
+  std::vector<Vec3> inertia;            // principal, kg m^2
   std::vector<double> element_radius;
+  std::vector<Index> element_body, element_material;
+  std::vector<Vec3> element_offset;     // body frame, m
+  std::vector<std::string> material_names;
   std::vector<Index> contact_body_a, contact_body_b;
   std::vector<Vec3> contact_force;
   std::vector<Vec3> wall_force;
@@ -65,5 +74,9 @@ struct StateFrame {
 
 int count_frames(const std::filesystem::path& path);
 StateFrame read_frame(const std::filesystem::path& path, int frame);
+// The bodies of a frame, ready for Simulation::add_clump (a sphere comes back as a one-pebble
+// clump at its centre, which the solver treats exactly as a sphere). material_of maps the
+// file's material indices to the new simulation's.
+std::vector<ClumpSpec> bodies_of(const StateFrame& frame, const std::vector<int>& material_of);
 
 }  // namespace mfdem::dem

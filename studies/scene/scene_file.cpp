@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "dem/state_file.hpp"
 #include "studies/config/config.hpp"
 #include "studies/scene/sphere_sources.hpp"
 #include "studies/scene/stone_sources.hpp"
@@ -114,6 +115,39 @@ void read_walls(const Section& s, int index, Scene& scene) {
   for (const auto& w : dem::box_walls(name, lo, hi, open_top, material)) scene.walls.push_back(w);
 }
 
+// [[state_file]]: every body of one frame of an earlier run's state.h5 (a settled packing):
+// path (relative to the scene file), frame (default -1: the last). Materials are matched by name.
+void read_state_file(const Section& s, Scene& scene) {
+  std::filesystem::path file = s.text("path");
+  const std::string where = s.where("path");
+  const auto colon = where.rfind(':');
+  const std::filesystem::path scene_file = where.substr(0, colon == std::string::npos ? where.size() : colon);
+  if (file.is_relative()) file = scene_file.parent_path() / file;
+  long long frame = s.integer_or("frame", -1, {}, "frame index (negative counts from the end)");
+  dem::StateFrame f;
+  try {
+    const int frames = dem::count_frames(file);
+    if (frame < 0) frame += frames;
+    if (frame < 0 || frame >= frames)
+      s.fail("frame", fmt::format("a frame of {} (it has {})", file.string(), frames));
+    f = dem::read_frame(file, static_cast<int>(frame));
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const config::ConfigError*>(&e)) throw;
+    s.fail("path", fmt::format("an mfdem state file ({})", e.what()));
+  }
+  std::vector<int> material_of;
+  for (const auto& name : f.material_names) {
+    const int m = scene.materials.index_of(name);
+    material_of.push_back(m);
+  }
+  for (std::size_t e = 0; e < f.element_material.size(); ++e)
+    if (material_of[f.element_material[e]] < 0)
+      s.fail("path", fmt::format("a packing whose materials the scene defines (material '{}' of {} is "
+                                 "not under [materials])",
+                                 f.material_names[f.element_material[e]], file.string()));
+  for (auto& body : dem::bodies_of(f, material_of)) scene.clumps.push_back(std::move(body));
+}
+
 }  // namespace
 
 Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t> seed) {
@@ -148,6 +182,7 @@ Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t>
     scene.clumps.insert(scene.clumps.end(), stones.clumps.begin(), stones.clumps.end());
     scene.spheres.insert(scene.spheres.end(), stones.balls.begin(), stones.balls.end());
   }
+  for (const auto& s : root.sections("state_file")) read_state_file(s, scene);
   int wall_index = 0;
   for (const auto& s : root.sections("wall")) read_walls(s, wall_index++, scene);
   root.finish();

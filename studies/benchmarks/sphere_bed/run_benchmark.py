@@ -443,7 +443,7 @@ def run_measured(cmd: list[str], ranks: int, cwd: Path, tag: str, env: dict) -> 
         own_cpu += sum(float(v) for v in re.findall(r"(?:User|System) time \(seconds\):\s*([0-9.]+)",
                                                     text))
     foreign = max(0.0, (busy1 - busy0) / CLK_TCK - own_cpu) / wall if wall > 0 else 0.0
-    return output, {"rss": rss, "foreign": foreign}
+    return output, {"rss": rss, "foreign": foreign, "cpu_seconds": own_cpu}
 
 
 def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: int, n: int,
@@ -622,6 +622,7 @@ def summarise(samples: list[dict]) -> dict:
             "rss": max(s["rss"] for s in samples),
             "rss_self": max((s.get("rss_self", 0) for s in samples), default=0),
             "foreign": max(s["foreign"] for s in samples),
+            "cpu_median": statistics.median(s["sps_cpu"] for s in samples),
             "repeats": len(samples)}
 
 
@@ -681,11 +682,16 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
             "set size, summed over ranks; it includes each process's fixed libraries and "
             "buffers, so bytes per sphere overstate the per-sphere cost at small N. Other load: "
             "CPU cores used by other processes during the run (from /proc/stat minus the run's "
-            "own CPU time), largest over the repeats; above about 0.1 the timing is disturbed.",
+            "own CPU time), largest over the repeats; above about 0.1 the timing is disturbed. "
+            "Sphere-steps per CPU-s (one process only): spheres x steps / (user + system CPU "
+            "time of the whole process, including reading the bed and writing output, a few "
+            "per cent); much less sensitive to other load than the wall-clock figure, so it is "
+            "the fairer single-thread comparison on a shared machine.",
             ""]
     out += ["| code | threads/ranks | median M sphere-steps/s | min - max | speed-up vs 1 | "
-            "contacts/sphere | peak RSS MB | bytes/sphere | mfdem / this | other load |",
-            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            "contacts/sphere | peak RSS MB | bytes/sphere | mfdem / this | other load | "
+            "M sphere-steps per CPU-s | mfdem / this (CPU) |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for (code, procs, rolling) in configs:
         s = results.get((code, procs, rolling))
         if s is None:
@@ -694,10 +700,13 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
         speedup = f"{s['median'] / one['median']:.2f}" if one and procs != 1 else "-"
         mf = results.get(("mfdem", procs, rolling))
         ratio = "-" if code == "mfdem" or mf is None else f"{mf['median'] / s['median']:.2f}"
+        cpu = fmt_msps(s["cpu_median"]) if procs == 1 else "-"
+        cpu_ratio = ("-" if code == "mfdem" or mf is None or procs != 1
+                     else f"{mf['cpu_median'] / s['cpu_median']:.2f}")
         out.append(f"| {label(code, rolling)} | {procs} | {fmt_msps(s['median'])} | "
                    f"{fmt_msps(s['min'])} - {fmt_msps(s['max'])} | {speedup} | "
                    f"{s['contacts']:.3f} | {s['rss'] / 1e6:.1f} | {s['rss'] / n:.0f} | {ratio} | "
-                   f"{s['foreign']:.2f} |")
+                   f"{s['foreign']:.2f} | {cpu} | {cpu_ratio} |")
     out.append("")
     rows = []
     for (code, procs, rolling) in configs:
@@ -854,6 +863,7 @@ def main() -> int:
                 res = run_mfdem(exes["mfdem"], procs, scenes[rolling], steps, n, rundir, tag)
             else:
                 res = run_peer(code, exes[code], procs, rolling, data, steps, n, rundir, tag)
+            res["sps_cpu"] = n * steps / res["cpu_seconds"] if res["cpu_seconds"] > 0 else 0.0
             samples[(code, procs, rolling)].append(res)
             log(f"[{k}/{total}] {CODE_NAMES[code]:8s} {'rolling' if rolling else 'base   '} "
                 f"{procs} {'thread(s)' if code == 'mfdem' else 'rank(s)  '} rep {rep}: "

@@ -1,0 +1,117 @@
+// A scene can start from a frame of an earlier run's state.h5: the normal way to reuse a
+// settled packing.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include "dem/state_file.hpp"
+#include "studies/scene/scene_file.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using namespace mfdem;
+
+TEST_CASE("a scene restarted from a saved frame holds exactly the saved bodies", "[scene][restart]") {
+  // Reference: the saved frame itself. Positions, velocities, orientations, masses, inertias
+  // and pebbles must come back bitwise (HDF5 stores doubles exactly).
+  test::TempDir dir;
+  const auto original = dir.path() / "pour.toml";
+  std::ofstream(original) << R"(
+[simulation]
+duration = 0.01
+seed = 3
+[domain]
+min = [0, 0, 0]
+max = [0.4, 0.4, 0.8]
+[materials.ballast]
+density = 2800.0
+normal_stiffness = 2e7
+shear_stiffness = 2e7
+friction = 0.5
+[[stone_group]]
+min = [0, 0, 0.05]
+max = [0.4, 0.4, 0.8]
+count = 20
+material = "ballast"
+random_speed = 0.3
+[[sphere]]
+position = [0.2, 0.2, 0.7]
+radius = 0.02
+material = "ballast"
+angular_velocity = [1, 2, 3]
+[[wall]]
+type = "box"
+min = [0, 0, 0]
+max = [0.4, 0.4, 0.8]
+material = "ballast"
+)";
+  const scene::Scene first = scene::load_scene(original);
+  dem::Simulation sim = scene::make_simulation(first);
+  sim.prepare();
+  for (int k = 0; k < 300; ++k) sim.step();
+  {
+    dem::StateFile state(dir.path() / "state.h5", sim, "test");
+    state.write_frame(sim);
+  }
+  const auto restart = dir.path() / "restart.toml";
+  std::ofstream(restart) << R"(
+[simulation]
+duration = 0.01
+[domain]
+min = [0, 0, 0]
+max = [0.4, 0.4, 0.8]
+[materials.ballast]
+density = 2800.0
+normal_stiffness = 2e7
+shear_stiffness = 2e7
+friction = 0.5
+[[state_file]]
+path = "state.h5"
+)";
+  const scene::Scene second = scene::load_scene(restart);
+  dem::Simulation again = scene::make_simulation(second);
+  const dem::Bodies& a = sim.bodies();
+  const dem::Bodies& b = again.bodies();
+  REQUIRE(b.size() == a.size());
+  CHECK(b.position == a.position);
+  CHECK(b.velocity == a.velocity);
+  CHECK(b.angular_velocity == a.angular_velocity);
+  CHECK(b.mass == a.mass);
+  CHECK(b.inertia == a.inertia);
+  CHECK(again.elements().offset == sim.elements().offset);
+  CHECK(again.elements().radius == sim.elements().radius);
+  for (dem::Index k = 0; k < a.size(); ++k) CHECK(b.orientation[k].coeffs() == a.orientation[k].coeffs());
+}
+
+TEST_CASE("a state file with a material the scene lacks is refused by name", "[scene][restart]") {
+  test::TempDir dir;
+  dem::MaterialTable materials;
+  dem::Material granite;
+  granite.name = "granite";
+  materials.add(granite);
+  dem::Simulation sim(dem::Domain{}, materials, dem::SimulationSettings{});
+  dem::SphereSpec s;
+  s.position = dem::Vec3(0.5, 0.5, 0.5);
+  sim.add_sphere(s);
+  {
+    dem::StateFile state(dir.path() / "state.h5", sim, "test");
+    state.write_frame(sim);
+  }
+  const auto scene_file = dir.path() / "restart.toml";
+  std::ofstream(scene_file) << R"(
+[simulation]
+duration = 0.01
+[domain]
+min = [0, 0, 0]
+max = [1, 1, 1]
+[materials.ballast]
+density = 2800.0
+normal_stiffness = 2e7
+shear_stiffness = 2e7
+friction = 0.5
+[[state_file]]
+path = "state.h5"
+)";
+  CHECK_THROWS_WITH(scene::load_scene(scene_file), Catch::Contains("material 'granite'") &&
+                                                       Catch::Contains("restart.toml:13"));
+}
