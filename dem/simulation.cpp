@@ -111,8 +111,21 @@ int Simulation::add_wall(const PlaneWall& wall) {
   return static_cast<int>(walls_.size()) - 1;
 }
 
+int Simulation::add_box(const RigidBox& box) {
+  if (prepared_) throw std::logic_error("add_box after prepare()");
+  if (box.material < 0 || box.material >= materials_.size())
+    throw std::invalid_argument(fmt::format("box '{}' material index {} is not defined", box.name, box.material));
+  if (!(box.mass > 0.0) || !(box.half_extent.minCoeff() > 0.0))
+    throw std::invalid_argument(fmt::format("box '{}' needs a positive mass and size", box.name));
+  boxes_.push_back(box);
+  return static_cast<int>(boxes_.size()) - 1;
+}
+
 void Simulation::prepare() {
-  limit_ = critical_time_step(bodies_, elements_, materials_, walls_);
+  // A box meets the elements like a wall of its material (it is far heavier than a stone).
+  std::vector<PlaneWall> boundaries = walls_;
+  for (const auto& box : boxes_) boundaries.push_back(PlaneWall{box.name, box.centre, Vec3::UnitZ(), Vec3::Zero(), box.material});
+  limit_ = critical_time_step(bodies_, elements_, materials_, boundaries);
   const double given = settings_.time_step;
   if (given > 0.0) {
     if (given > limit_.limit && !settings_.force_time_step)
@@ -136,6 +149,10 @@ void Simulation::prepare() {
   wall_history_.assign(ne * nw, ContactHistory{});
   wall_active_.assign(ne * nw, 0);
   wall_force_.assign(nw, Vec3::Zero());
+  const std::size_t nx = boxes_.size();
+  box_history_.assign(ne * nx, ContactHistory{});
+  box_active_.assign(ne * nx, 0);
+  box_force_.assign(nx, Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
@@ -182,6 +199,16 @@ void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) 
   bodies_.angular_velocity[b] = world_angular_velocity(q, bodies_.inertia[b], l_body);
 }
 
+// Free axes of a box move under the elements' force and gravity; driven axes keep their speed.
+void Simulation::kick_boxes(double h) {
+  for (std::size_t k = 0; k < boxes_.size(); ++k) {
+    RigidBox& box = boxes_[k];
+    const Vec3 acceleration = box_force_[k] / box.mass + settings_.gravity;
+    for (int a = 0; a < 3; ++a)
+      if (!box.driven[a]) box.velocity[a] += h * acceleration[a];
+  }
+}
+
 Simulation::Snapshot Simulation::snapshot() const {
   return Snapshot{time_, step_count_, bodies_.position, bodies_.velocity,
                   bodies_.angular_velocity, bodies_.orientation};
@@ -190,9 +217,12 @@ Simulation::Snapshot Simulation::snapshot() const {
 void Simulation::step() {
   if (!prepared_) throw std::logic_error("Simulation::step before prepare()");
   drift_and_kick();
+  kick_boxes(0.5 * dt_);
+  for (auto& box : boxes_) box.centre += dt_ * box.velocity;
   maybe_rebuild();
   evaluate_pairs();
   gather_and_kick();
+  kick_boxes(0.5 * dt_);
   time_ += dt_;
   ++step_count_;
   for (auto& w : walls_) w.point += dt_ * w.velocity;
@@ -444,6 +474,8 @@ void Simulation::gather_and_kick() {
   const std::size_t nw = walls_.size();
   body_chunk_energy_.assign(chunks, ChunkEnergy{});
   chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
+  const std::size_t nx = boxes_.size();
+  chunk_box_force_.assign(chunks * nx, Vec3::Zero());
   const double dt = dt_;
   const double half = 0.5 * dt_;
   const bool kick_now = gather_and_kick_;
@@ -507,6 +539,41 @@ void Simulation::gather_and_kick() {
           acc.friction += out.dissipated_friction;
           acc.wall_work += out.force.dot(wall.velocity) * dt;
         }
+        for (std::size_t k = 0; k < nx; ++k) {
+          const RigidBox& box = boxes_[k];
+          std::uint8_t& active = box_active_[e * nx + k];
+          ContactHistory& history = box_history_[e * nx + k];
+          const auto contact = sphere_box_contact(xe, re, box.centre, box.half_extent);
+          if (!contact) {
+            if (active) {
+              active = 0;
+              history = ContactHistory{};
+            }
+            continue;
+          }
+          active = 1;
+          // The box is body a, the element body b.
+          ContactGeometry g;
+          g.normal = contact->normal;
+          g.overlap = contact->overlap;
+          if (g.overlap > overlap_limit * re && acc.bad_body < 0) acc.bad_body = b;
+          const Vec3 arm = -(re - 0.5 * g.overlap) * g.normal;
+          g.relative_velocity = vb + wb.cross(xe - xb + arm) - box.velocity;
+          g.relative_spin = wb;
+          g.frame_spin = 0.0;
+          g.effective_mass = mass * box.mass / (mass + box.mass);
+          g.rolling_radius = re;
+          const ContactOutcome out = evaluate_contact(
+              materials_.pair(box.material, elements_.material[e]), g, history, dt);
+          fe += out.force;
+          te += arm.cross(out.force) + out.rolling_moment;
+          chunk_box_force_[c * nx + k] -= out.force;
+          acc.damping += out.dissipated_damping;
+          acc.friction += out.dissipated_friction;
+          // Work of the drive: only driven axes put energy in; free axes trade kinetic energy.
+          for (int a = 0; a < 3; ++a)
+            if (box.driven[a]) acc.wall_work += out.force[a] * box.velocity[a] * dt;
+        }
         force += fe;
         torque += te + (xe - xb).cross(fe);
       }
@@ -536,6 +603,11 @@ void Simulation::gather_and_kick() {
     Vec3 sum = Vec3::Zero();
     for (Index c = 0; c < chunks; ++c) sum += chunk_wall_force_[c * nw + w];
     wall_force_[w] = sum;
+  }
+  for (std::size_t k = 0; k < nx; ++k) {
+    Vec3 sum = Vec3::Zero();
+    for (Index c = 0; c < chunks; ++c) sum += chunk_box_force_[c * nx + k];
+    box_force_[k] = sum;
   }
   for (const auto& acc : body_chunk_energy_) {
     dissipated_damping_ += acc.damping;
@@ -617,6 +689,26 @@ EnergyReport Simulation::energy() const {
       const ContactHistory& h = wall_history_[e * nw + w];
       const double re = elements_.radius[e];
       r.elastic += 0.5 * pp.normal_stiffness * overlap * overlap;
+      r.elastic += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+      if (pp.rolling_friction > 0.0)
+        r.elastic += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
+    }
+  }
+  for (std::size_t k = 0; k < boxes_.size(); ++k) {
+    const RigidBox& box = boxes_[k];
+    for (int a = 0; a < 3; ++a) {
+      if (box.driven[a]) continue;
+      r.kinetic_translational += 0.5 * box.mass * box.velocity[a] * box.velocity[a];
+      r.gravitational -= box.mass * settings_.gravity[a] * box.centre[a];
+    }
+    for (Index e = 0; e < elements_.size(); ++e) {
+      if (!box_active_[e * boxes_.size() + k]) continue;
+      const auto contact = sphere_box_contact(elements_.position[e], elements_.radius[e], box.centre, box.half_extent);
+      if (!contact) continue;
+      const PairParameters& pp = materials_.pair(box.material, elements_.material[e]);
+      const ContactHistory& h = box_history_[e * boxes_.size() + k];
+      const double re = elements_.radius[e];
+      r.elastic += 0.5 * pp.normal_stiffness * contact->overlap * contact->overlap;
       r.elastic += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
       if (pp.rolling_friction > 0.0)
         r.elastic += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);

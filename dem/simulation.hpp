@@ -21,6 +21,7 @@
 #include "dem/neighbor_list.hpp"
 #include "dem/stability.hpp"
 #include "dem/time_step.hpp"
+#include "dem/rigid_box.hpp"
 #include "dem/wall.hpp"
 
 namespace mfdem::dem {
@@ -92,6 +93,7 @@ class Simulation {
   Index add_sphere(const SphereSpec& sphere);
   Index add_clump(const ClumpSpec& clump);
   int add_wall(const PlaneWall& wall);
+  int add_box(const RigidBox& box);
 
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
   // list and evaluates the first forces. Call after adding bodies and walls.
@@ -116,6 +118,10 @@ class Simulation {
 
   // Force the elements exert on wall w during the last step, N.
   const Vec3& wall_force(int w) const { return wall_force_[w]; }
+  const std::vector<RigidBox>& boxes() const { return boxes_; }
+  std::vector<RigidBox>& mutable_boxes() { return boxes_; }
+  // Force the elements exert on box k during the last step, N.
+  const Vec3& box_force(int k) const { return box_force_[k]; }
   EnergyReport energy() const;
   std::vector<ContactRecord> contacts() const;
   Index active_contact_count() const;
@@ -179,6 +185,12 @@ class Simulation {
   std::vector<Vec3> build_position_;          // element positions at the last build
   double skin_ = 0.0;
 
+  std::vector<RigidBox> boxes_;
+  std::vector<ContactHistory> box_history_;   // [element * boxes + box]
+  std::vector<std::uint8_t> box_active_;
+  std::vector<Vec3> box_force_;
+  std::vector<Vec3> chunk_box_force_;         // [chunk * boxes + box]
+  void kick_boxes(double h);
   std::vector<Vec3> wall_force_;
   std::vector<Vec3> chunk_wall_force_;  // [chunk * walls + wall]
   struct ChunkEnergy {

@@ -1,0 +1,60 @@
+#pragma once
+// A rigid, axis-aligned box body, such as a sleeper: it never rotates; along each axis it is
+// either driven at a prescribed velocity or free (moved by the contact forces and gravity).
+// The lateral push test drives a sleeper along x, holds it along y and leaves it free along z
+// under its own weight.
+#include <array>
+#include <optional>
+#include <string>
+
+#include "dem/types.hpp"
+
+namespace mfdem::dem {
+
+struct RigidBox {
+  std::string name;
+  Vec3 centre = Vec3::Zero();        // m
+  Vec3 half_extent = Vec3::Ones();   // m
+  double mass = 1.0;                 // kg
+  int material = 0;
+  Vec3 velocity = Vec3::Zero();      // m/s; the prescribed value on driven axes
+  std::array<bool, 3> driven = {true, true, true};
+};
+
+// Contact of a sphere (centre x, radius r) with a box: overlap d > 0, unit normal from the box
+// to the sphere, and the point of the box surface nearest the sphere's centre. A centre inside
+// the box is pushed out through the nearest face.
+struct BoxContact {
+  double overlap = 0.0;
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 surface_point = Vec3::Zero();
+};
+
+inline std::optional<BoxContact> sphere_box_contact(const Vec3& x, double r, const Vec3& centre,
+                                                    const Vec3& half) {
+  const Vec3 local = x - centre;
+  const Vec3 clamped = local.cwiseMax(-half).cwiseMin(half);
+  const Vec3 outside = local - clamped;
+  const double distance2 = outside.squaredNorm();
+  if (distance2 > 0.0) {
+    if (distance2 >= r * r) return std::nullopt;
+    const double distance = std::sqrt(distance2);
+    return BoxContact{r - distance, outside / distance, centre + clamped};
+  }
+  // Inside: leave through the face with the smallest depth.
+  int axis = 0;
+  double depth = half[0] - std::abs(local[0]);
+  for (int a = 1; a < 3; ++a) {
+    const double d = half[a] - std::abs(local[a]);
+    if (d < depth) depth = d, axis = a;
+  }
+  BoxContact c;
+  c.normal = Vec3::Zero();
+  c.normal[axis] = local[axis] >= 0.0 ? 1.0 : -1.0;
+  c.overlap = r + depth;
+  c.surface_point = x;
+  c.surface_point[axis] = centre[axis] + c.normal[axis] * half[axis];
+  return c;
+}
+
+}  // namespace mfdem::dem
