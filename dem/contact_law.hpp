@@ -52,19 +52,19 @@ struct ContactOutcome {
 
 // --- stateless kernels --------------------------------------------------------------------
 
-inline double damping_coefficient(double damping_ratio, double effective_mass, double kn) {
+[[gnu::always_inline]] inline double damping_coefficient(double damping_ratio, double effective_mass, double kn) {
   return 2.0 * damping_ratio * std::sqrt(effective_mass * kn);
 }
 
 // Normal force magnitude; never tensile.
-inline double normal_force(double kn, double cn, double overlap, double normal_velocity) {
+[[gnu::always_inline]] inline double normal_force(double kn, double cn, double overlap, double normal_velocity) {
   return std::max(0.0, kn * overlap - cn * normal_velocity);
 }
 
 // Carries a tangential vector (spring force or moment) from the previous contact frame to the
 // current one: drop the component along the new normal, turn it about the normal by the pair's
 // mean spin, and keep its magnitude (so a rigidly rotated contact keeps its force).
-inline Vec3 rotate_to_frame(const Vec3& v, const Vec3& normal, double spin_about_normal,
+[[gnu::always_inline]] inline Vec3 rotate_to_frame(const Vec3& v, const Vec3& normal, double spin_about_normal,
                             double dt) {
   const double magnitude2 = v.squaredNorm();
   if (magnitude2 == 0.0) return v;
@@ -81,7 +81,7 @@ inline Vec3 rotate_to_frame(const Vec3& v, const Vec3& normal, double spin_about
 // the limit changes during sliding (an impact) the mean keeps the account second-order in dt,
 // consistent with the velocity-Verlet work; limit x slip alone is off by O(dt), and misses the
 // energy a stuck spring releases when the limit drops below it as a contact ends.
-inline double spring_with_slip(Vec3& spring, const Vec3& rate, double stiffness, double dt,
+[[gnu::always_inline]] inline double spring_with_slip(Vec3& spring, const Vec3& rate, double stiffness, double dt,
                                double limit) {
   const Vec3 previous = spring;
   spring -= (stiffness * dt) * rate;
