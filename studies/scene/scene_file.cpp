@@ -118,11 +118,7 @@ void read_walls(const Section& s, int index, Scene& scene) {
 // [[state_file]]: every body of one frame of an earlier run's state.h5 (a settled packing):
 // path (relative to the scene file), frame (default -1: the last). Materials are matched by name.
 void read_state_file(const Section& s, Scene& scene) {
-  std::filesystem::path file = s.text("path");
-  const std::string where = s.where("path");
-  const auto colon = where.rfind(':');
-  const std::filesystem::path scene_file = where.substr(0, colon == std::string::npos ? where.size() : colon);
-  if (file.is_relative()) file = scene_file.parent_path() / file;
+  const std::filesystem::path file = path_beside_scene(s, "path");
   long long frame = s.integer_or("frame", -1, {}, "frame index (negative counts from the end)");
   dem::StateFrame f;
   try {

@@ -49,22 +49,13 @@ StoneBodies generate_stone_group(const config::Section& s, const dem::MaterialTa
     reach = std::max(reach, fidelity::template_reach(templates[draws[k].template_index]) * draws[k].size);
   }
   const double pitch = 2.0 * reach * 1.02;  // no two stones overlap at the start
-  long long cells[3];
-  for (int a = 0; a < 3; ++a) {
-    cells[a] = static_cast<long long>(std::floor((hi[a] - lo[a]) / pitch));
-    if (cells[a] < 1)
-      s.fail("max", fmt::format("a region at least one stone ({:.4g} m) wide along {}", pitch, "xyz"[a]));
-  }
-  if (count > cells[0] * cells[1] * cells[2])
-    s.fail("count", fmt::format("at most {} stones, the lattice capacity of the region at pitch {:.4g} m",
-                                cells[0] * cells[1] * cells[2], pitch));
+  const auto centres = lattice_centres(s, lo, hi, pitch, count, "stones");
   std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), gsl_rng_free);
   gsl_rng_set(rng.get(), static_cast<unsigned long>(seed + 7919 * (first_stone + 1)));
   const double density = materials[material].density;
   StoneBodies out;
   for (long long k = 0; k < count; ++k) {
-    const long long ix = k % cells[0], iy = (k / cells[0]) % cells[1], iz = k / (cells[0] * cells[1]);
-    const dem::Vec3 centre = lo + dem::Vec3((ix + 0.5) * pitch, (iy + 0.5) * pitch, (iz + 0.5) * pitch);
+    const dem::Vec3& centre = centres[k];
     const dem::Vec3 jitter(gsl_rng_uniform(rng.get()) - 0.5, gsl_rng_uniform(rng.get()) - 0.5,
                            gsl_rng_uniform(rng.get()) - 0.5);
     const auto& shape = templates[draws[k].template_index];
