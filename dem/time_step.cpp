@@ -32,12 +32,22 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     const int m = elements.material[e];
     const double inv_mass = 1.0 / bodies.mass[b];
     const double inv_inertia = 1.0 / bodies.inertia[b].minCoeff();
+    // A tangential impulse t at lever r turns the body by I^-1 (r x t); its inverse mass is
+    // 1/m + (r x t).I^-1.(r x t). Two bounds, the smaller kept: |r|^2 / I_min (exact for a
+    // sphere), and sum_k (a_i^2 + a_j^2) / I_k with a = |offset| + radius per body axis (tight
+    // for a long clump, whose far pebbles turn it about its stiff axes, not its long one).
     const double lever = elements.radius[e] + elements.offset[e].norm();
+    const Vec3 reach = elements.offset[e].cwiseAbs() + Vec3::Constant(elements.radius[e]);
+    const Vec3& inertia = bodies.inertia[b];
+    const double by_axes = (reach[1] * reach[1] + reach[2] * reach[2]) / inertia[0] +
+                           (reach[0] * reach[0] + reach[2] * reach[2]) / inertia[1] +
+                           (reach[0] * reach[0] + reach[1] * reach[1]) / inertia[2];
+    const double turning = std::min(lever * lever * inv_inertia, by_axes);
     Lightest& l = light[m];
     l.present = true;
     l.inverse_mass = std::max(l.inverse_mass, inv_mass);
     l.inverse_tangential_mass =
-        std::max(l.inverse_tangential_mass, inv_mass + lever * lever * inv_inertia);
+        std::max(l.inverse_tangential_mass, inv_mass + turning);
     l.inverse_inertia = std::max(l.inverse_inertia, inv_inertia);
     l.radius = std::max(l.radius, elements.radius[e]);
   }
