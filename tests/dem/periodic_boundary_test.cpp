@@ -127,11 +127,12 @@ TEST_CASE("a collision across the periodic faces gives the same result as in the
   // Reference for the tolerance: the same collision translated inside the box. Not bitwise:
   // runs at different places compute the centre differences from coordinates of different
   // magnitude, so they round differently (~1e-16 m on overlaps of ~1e-4 m: 1e-12 relative per
-  // step), and over the ~200 steps of stick and slip of the tangential and rolling springs this
-  // grows to ~1e-11 relative on the spins (measured: 2e-11 between the two interior runs,
-  // 1e-11 between the interior and the periodic run). Tolerance 1e-10 relative to each
-  // velocity and spin: ten times rounding; a spring history lost at a wrap for one step
-  // (Ft dt / m ~ 1e-5 m/s) or a wrong image would be 1e5 times larger. Positions: 1e-12 m.
+  // step), and through the stick and slip of the tangential and rolling springs over the ~25
+  // steps of contact this grows to ~1e-11 relative on the spins (measured: 2.4e-11 between the
+  // two interior runs, 1.7e-11 between the interior and the periodic run; 1e-12 to 3e-12 on
+  // the velocities). Tolerance 1e-10 relative to each velocity and spin: a few times rounding;
+  // a spring history lost at a wrap for one step (Ft dt / m ~ 1e-2 m/s) or a wrong image would
+  // be 1e8 times larger. Positions: 1e-12 m.
   const Simulation elsewhere = run(middle - Vec3::Constant(0.3));
   auto relative_difference = [](const Simulation& a, const Simulation& b) {
     double worst = 0.0;
