@@ -547,6 +547,12 @@ void Simulation::gather_and_kick() {
           if (!contact) {
             if (active) {
               active = 0;
+              // As for walls: the springs' energy goes to friction when the contact opens.
+              const Vec3 nearest = box.centre + (xe - box.centre).cwiseMax(-box.half_extent).cwiseMin(box.half_extent);
+              const Vec3 n = (xe - nearest).normalized();
+              const Vec3 v = vb + wb.cross(xe - xb - re * n) - box.velocity;
+              acc.friction += released_spring_energy(materials_.pair(box.material, elements_.material[e]),
+                                                     history, re, v - v.dot(n) * n, wb - wb.dot(n) * n, dt);
               history = ContactHistory{};
             }
             continue;

@@ -70,9 +70,13 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
                          label, p.normal_stiffness, 1.0 / inv_m));
     consider(p.shear_stiffness * inv_mt, p.damping_ratio,
              fmt::format("shear spring of {} (ks = {:.3g} N/m)", label, p.shear_stiffness));
+    // Shear and rolling springs both turn the bodies, so they couple: the fastest mode of the
+    // pair lies below the sum of the two squared frequencies (Gershgorin), which we take.
     if (p.rolling_friction > 0.0)
-      consider(p.shear_stiffness * rbar * rbar * inv_i, p.damping_ratio,
-               fmt::format("rolling spring of {}", label));
+      consider(p.shear_stiffness * (inv_mt + rbar * rbar * inv_i), p.damping_ratio,
+               fmt::format("coupled shear and rolling springs of {} (ks = {:.3g} N/m, "
+                           "mu_r = {:.3g})",
+                           label, p.shear_stiffness, p.rolling_friction));
   };
 
   for (int a = 0; a < nm; ++a) {

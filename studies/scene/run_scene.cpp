@@ -108,6 +108,7 @@ int run_scene_command(const RunOptions& options) {
     progress.finish();
   } catch (const dem::StabilityError& e) {
     progress.finish();
+    totals.steps = sim.step_count();  // the steps completed before the guard tripped
     totals.status = "unstable";
     totals.message = e.what();
     if (sim.last_good_state()) state.write_snapshot(sim, *sim.last_good_state(), "last good state");
