@@ -46,7 +46,9 @@ StoneBodies generate_stone_group(const config::Section& s, const dem::MaterialTa
   for (long long k = 0; k < count; ++k) {
     draws[k] = sampler.draw(first_stone + k);
     if (fixed_size > 0.0) draws[k].size = fixed_size;
-    reach = std::max(reach, fidelity::template_reach(templates[draws[k].template_index]) * draws[k].size);
+    const auto& shape = templates[draws[k].template_index];
+    reach = std::max(reach, representation == "ball" ? shape.equivalent_radius(draws[k].size)
+                                                     : fidelity::template_reach(shape) * draws[k].size);
   }
   const double pitch = 2.0 * reach * 1.02;  // no two stones overlap at the start
   const auto centres = lattice_centres(s, lo, hi, pitch, count, "stones");
