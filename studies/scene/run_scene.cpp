@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -95,8 +96,10 @@ int run_scene_command(const RunOptions& options) {
   int exit_status = 0;
   try {
     while (totals.steps < total_steps) {
-      const std::int64_t burst = std::min(output_every - sim.step_count() % output_every,
-                                          total_steps - totals.steps);
+      // Bursts end at output steps, and are short enough that the progress line moves.
+      constexpr std::int64_t kProgressBurst = 500;
+      const std::int64_t burst = std::min({output_every - sim.step_count() % output_every,
+                                           total_steps - totals.steps, kProgressBurst});
       const auto start = std::chrono::steady_clock::now();
       for (std::int64_t k = 0; k < burst; ++k) sim.step();
       totals.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -408,9 +408,11 @@ def settle_liggghts(exe: str, n: int, seed: int, workdir: Path, templates: list[
            "gn_pp": gn_pp, "gn_pw": gn_pw, "mu": MU, "dt": LIG_SETTLE_DT, "skin": SKIN,
            "fallsteps": fall_steps, "gvisc": mean_mass / (6.0 * LIG_TAU), "chunk": LIG_CHUNK,
            "maxchunks": LIG_MAX_CHUNKS, "vtol": VTOL, "movefrac": MOVE_FRAC}
-    cmd = [exe, "-in", str(HERE / "in.settle.liggghts"), "-log", "settle.log", "-screen", "none"]
+    # not "-screen none": LIGGGHTS 3.8 then crashes in Region::reset_random (fprintf to screen)
+    cmd = [exe, "-in", str(HERE / "in.settle.liggghts"), "-log", "settle.log"]
     for k, v in var.items():
         cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
+    (ldir / "settle.cmd").write_text(shlex.join(sb.mpi_prefix(ranks) + cmd) + "\n")
     log(f"  LIGGGHTS settling its own bed of {n} clumps on {ranks} rank(s) "
         f"(insertion region top {ztop:.2f} m, dt {LIG_SETTLE_DT:g} s) ...")
     t0 = time.monotonic()
