@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/sphere_spec.hpp"
 #include "dem/simulation.hpp"
 
 namespace mfdem::dem_test {
@@ -90,17 +91,7 @@ inline dem::PlaneWall floor_wall(int material) {
   return w;
 }
 
-inline dem::SphereSpec sphere(const Vec3& position, double radius, int material = 0,
-                              const Vec3& velocity = Vec3::Zero(),
-                              const Vec3& angular_velocity = Vec3::Zero()) {
-  dem::SphereSpec s;
-  s.position = position;
-  s.radius = radius;
-  s.material = material;
-  s.velocity = velocity;
-  s.angular_velocity = angular_velocity;
-  return s;
-}
+using test_support::sphere;
 
 // Spheres on a simple cubic lattice of `n` cells per axis starting at `origin` with spacing
 // `pitch`, radii uniform in [r_min, r_max] and velocities uniform in a cube of half-width

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "tests/support/sphere_spec.hpp"
 #include "dem/simulation.hpp"
 
 namespace mfdem::test {
@@ -96,17 +97,7 @@ inline dem::PlaneWall floor_wall(int material, double height = 0.0) {
   return w;
 }
 
-inline dem::SphereSpec sphere(const Vec3& position, double radius, int material,
-                              const Vec3& velocity = Vec3::Zero(),
-                              const Vec3& angular_velocity = Vec3::Zero()) {
-  dem::SphereSpec s;
-  s.position = position;
-  s.radius = radius;
-  s.material = material;
-  s.velocity = velocity;
-  s.angular_velocity = angular_velocity;
-  return s;
-}
+using test_support::sphere;
 
 // Two spheres on the x axis approaching head-on: a (radius ra, material 0) at the origin moving
 // at +va, b (radius rb, material of index material_b) `gap` beyond contact moving at -vb.
