@@ -594,7 +594,8 @@ def machine_description(mfdem: Path | None) -> list[str]:
         f"- memory: {mem}; OS: {os_name}, kernel {platform.release()}",
         f"- compiler: {command_output(['c++', '--version']).splitlines()[0] if shutil.which('c++') else '?'}",
         "- packages: " + ", ".join(f"{p} {package_version(p)}"
-                                   for p in ("lammps", "liggghts", "openmpi-bin", "python3")),
+                                   for p in ("lammps", "liggghts", "openmpi-bin")),
+        f"- this script ran on Python {platform.python_version()} ({sys.executable})",
     ]
     if mfdem is not None:
         cache = None
@@ -604,14 +605,16 @@ def machine_description(mfdem: Path | None) -> list[str]:
                 break
         if cache:
             get = lambda k: (re.search(rf"^{k}:[A-Z]+=(.*)$", cache, re.M) or [None, "?"])[1]
-            lines.append(f"- mfdem build: CMAKE_BUILD_TYPE={get('CMAKE_BUILD_TYPE')}, "
-                         f"compiler {get('CMAKE_CXX_COMPILER')}, "
-                         f"flags `{get('CMAKE_CXX_FLAGS')}`")
-        rev = command_output(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"])
-        status = command_output(["git", "-C", str(REPO), "status", "--porcelain", "--", "dem",
-                                 "studies", "fidelity", "calibration"])
-        lines.append(f"- mfdem source: git {rev or '(no commit)'}"
-                     f"{' with uncommitted changes' if status else ''}")
+            build_type = get("CMAKE_BUILD_TYPE")
+            flags = " ".join(f for f in (get("CMAKE_CXX_FLAGS"),
+                                         get(f"CMAKE_CXX_FLAGS_{build_type.upper()}"))
+                             if f and f != "?")
+            lines.append(f"- mfdem build: CMAKE_BUILD_TYPE={build_type}, compiler "
+                         f"{get('CMAKE_CXX_COMPILER')}, flags `{flags or '(none)'}`")
+        version = command_output([str(mfdem), "version"]).splitlines()
+        built = datetime.datetime.fromtimestamp(mfdem.stat().st_mtime).isoformat(timespec="seconds")
+        lines.append(f"- mfdem binary: {version[0] if version else '(mfdem version gave nothing)'}"
+                     f", built {built}")
     return lines
 
 
