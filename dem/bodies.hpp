@@ -20,6 +20,7 @@ struct Bodies {
   std::vector<Vec3> inertia;           // principal moments, kg m^2
   std::vector<double> local_damping;   // alpha of PFC-style local damping, -
   std::vector<Vec3> force;             // total force of the last evaluation, N
+  std::vector<Vec3> unbalanced_force;  // the same before local damping: what equilibrium tests read
   std::vector<Vec3> torque;            // total torque, world frame, N m
   std::vector<Index> first_element;    // elements of body b: [first_element[b], first_element[b+1])
 

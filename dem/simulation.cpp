@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "dem/chunked.hpp"
@@ -84,6 +85,7 @@ Index Simulation::add_body(const ClumpSpec& c) {
   bodies_.inertia.push_back(c.principal_inertia);
   bodies_.local_damping.push_back(materials_[c.material].local_damping);
   bodies_.force.push_back(Vec3::Zero());
+  bodies_.unbalanced_force.push_back(Vec3::Zero());
   bodies_.torque.push_back(Vec3::Zero());
   for (const auto& p : c.pebbles) {
     elements_.position.push_back(c.position + c.orientation.normalized() * p.offset);
@@ -585,6 +587,7 @@ void Simulation::gather_and_kick() {
       }
       // PFC local damping: each component of force and moment loses alpha |F| against the
       // motion.
+      bodies_.unbalanced_force[b] = force;
       const double alpha = bodies_.local_damping[b];
       if (alpha > 0.0) {
         for (int a = 0; a < 3; ++a) {
@@ -735,6 +738,19 @@ Index Simulation::active_contact_count() const {
     for (std::size_t w = 0; w < nw; ++w)
       if (elements_.radius[e] > (elements_.position[e] - walls_[w].point).dot(walls_[w].normal)) ++n;
   return n;
+}
+
+double Simulation::unbalanced_force_ratio() const {
+  double unbalanced = 0.0, contact = 0.0;
+  Index contacts = 0;
+  for (Index b = 0; b < bodies_.size(); ++b) unbalanced += bodies_.unbalanced_force[b].norm();
+  for (Index p = 0; p < pairs_.size(); ++p) {
+    if (!pair_active_[p]) continue;
+    contact += pair_force_[p].norm();
+    ++contacts;
+  }
+  if (contacts == 0 || contact == 0.0) return std::numeric_limits<double>::infinity();
+  return (unbalanced / std::max<Index>(bodies_.size(), 1)) / (contact / contacts);
 }
 
 std::vector<ContactRecord> Simulation::contacts() const {

@@ -125,6 +125,10 @@ class Simulation {
   EnergyReport energy() const;
   std::vector<ContactRecord> contacts() const;
   Index active_contact_count() const;
+  // Mean unbalanced force ratio (PFC's equilibrium measure): the mean over bodies of the
+  // magnitude of the net force (contacts and gravity, before local damping) over the mean
+  // magnitude of the body-body contact forces. Infinite while no two bodies touch.
+  double unbalanced_force_ratio() const;
   std::int64_t neighbour_rebuilds() const { return rebuilds_; }
 
   // State at the last passed stability check (positions, velocities), kept for output when a
