@@ -3,6 +3,16 @@
 #include <stdexcept>
 
 namespace mfdem::dem::h5 {
+namespace {
+
+// Link creation that makes missing parent groups ("curve/u" creates "curve").
+struct IntermediateGroups {
+  hid_t id = H5Pcreate(H5P_LINK_CREATE);
+  IntermediateGroups() { H5Pset_create_intermediate_group(id, 1); }
+  ~IntermediateGroups() { H5Pclose(id); }
+};
+
+}  // namespace
 
 void check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5 error while " + what);
@@ -12,8 +22,8 @@ void write_doubles(hid_t loc, const std::string& name, const double* data, hsize
                    hsize_t cols) {
   hsize_t dims[2] = {rows, cols};
   const hid_t space = H5Screate_simple(cols ? 2 : 1, dims, nullptr);
-  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT);
+  const IntermediateGroups lcpl;
+  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space, lcpl.id, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) throw std::runtime_error("HDF5: cannot create dataset " + name);
   if (rows) check(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing " + name);
   H5Dclose(set);
@@ -34,8 +44,8 @@ void write_vec3s(hid_t loc, const std::string& name, const std::vector<Vec3>& v)
 void write_ints(hid_t loc, const std::string& name, const std::vector<Index>& v) {
   hsize_t dims[1] = {v.size()};
   const hid_t space = H5Screate_simple(1, dims, nullptr);
-  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_STD_I32LE, space, H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT);
+  const IntermediateGroups lcpl;
+  const hid_t set = H5Dcreate2(loc, name.c_str(), H5T_STD_I32LE, space, lcpl.id, H5P_DEFAULT, H5P_DEFAULT);
   if (!v.empty()) check(H5Dwrite(set, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "writing " + name);
   H5Dclose(set);
   H5Sclose(space);

@@ -45,12 +45,8 @@ Simulation::Simulation(Domain domain, MaterialTable materials, SimulationSetting
   bodies_.first_element.push_back(0);
 }
 
-Index Simulation::add_sphere(const SphereSpec& s) {
-  if (s.material < 0 || s.material >= materials_.size())
-    throw std::invalid_argument(fmt::format("sphere material index {} is not defined", s.material));
-  if (!(s.radius > 0.0))
-    throw std::invalid_argument(fmt::format("sphere radius must be > 0 m (got {})", s.radius));
-  const double mass = materials_[s.material].density * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+ClumpSpec sphere_body(const SphereSpec& s, double density) {
+  const double mass = density * 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
   ClumpSpec body;
   body.position = s.position;
   body.velocity = s.velocity;
@@ -59,7 +55,15 @@ Index Simulation::add_sphere(const SphereSpec& s) {
   body.principal_inertia = Vec3::Constant(kSphereInertiaFactor * mass * s.radius * s.radius);
   body.pebbles = {Pebble{Vec3::Zero(), s.radius}};
   body.material = s.material;
-  return add_body(body);
+  return body;
+}
+
+Index Simulation::add_sphere(const SphereSpec& s) {
+  if (s.material < 0 || s.material >= materials_.size())
+    throw std::invalid_argument(fmt::format("sphere material index {} is not defined", s.material));
+  if (!(s.radius > 0.0))
+    throw std::invalid_argument(fmt::format("sphere radius must be > 0 m (got {})", s.radius));
+  return add_body(sphere_body(s, materials_[s.material].density));
 }
 
 Index Simulation::add_clump(const ClumpSpec& c) {
@@ -80,7 +84,10 @@ Index Simulation::add_body(const ClumpSpec& c) {
   bodies_.position.push_back(c.position);
   bodies_.velocity.push_back(c.velocity);
   bodies_.angular_velocity.push_back(c.angular_velocity);
-  bodies_.orientation.push_back(c.orientation.normalized());
+  // A unit quaternion is kept as given, so that a body saved and added again is bitwise the same.
+  const Quat q = std::abs(c.orientation.squaredNorm() - 1.0) <= 4.0 * std::numeric_limits<double>::epsilon()
+                     ? c.orientation : c.orientation.normalized();
+  bodies_.orientation.push_back(q);
   bodies_.mass.push_back(c.mass);
   bodies_.inertia.push_back(c.principal_inertia);
   bodies_.local_damping.push_back(materials_[c.material].local_damping);
@@ -88,7 +95,7 @@ Index Simulation::add_body(const ClumpSpec& c) {
   bodies_.unbalanced_force.push_back(Vec3::Zero());
   bodies_.torque.push_back(Vec3::Zero());
   for (const auto& p : c.pebbles) {
-    elements_.position.push_back(c.position + c.orientation.normalized() * p.offset);
+    elements_.position.push_back(c.position + q * p.offset);
     elements_.offset.push_back(p.offset);
     elements_.radius.push_back(p.radius);
     elements_.material.push_back(c.material);

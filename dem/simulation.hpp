@@ -61,6 +61,10 @@ struct ClumpSpec {
   int material = 0;
 };
 
+// A sphere as a body: mass and inertia of a solid sphere of the given density (kg/m^3), one
+// pebble at its centre (which the solver treats as a sphere, bitwise).
+ClumpSpec sphere_body(const SphereSpec& sphere, double density);
+
 // Energy account, J. With no damping, friction or work, `total()` is conserved.
 struct EnergyReport {
   double kinetic_translational = 0.0;

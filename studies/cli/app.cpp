@@ -69,6 +69,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     add_check_command(app, action, out, err);
     add_version_command(app, action, out);
     add_shapes_command(app, action, out, err);
+    add_push_commands(app, action);
     if (auto message = unknown_command(app, argc, argv)) return usage_error(err, *message);
     try {
       app.parse(argc, argv);

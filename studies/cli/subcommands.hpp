@@ -15,5 +15,6 @@ void add_run_command(CLI::App& app, Action& action);
 void add_check_command(CLI::App& app, Action& action, std::ostream& out, std::ostream& err);
 void add_version_command(CLI::App& app, Action& action, std::ostream& out);
 void add_shapes_command(CLI::App& app, Action& action, std::ostream& out, std::ostream& err);
+void add_push_commands(CLI::App& app, Action& action);  // pack, push, push-test
 
 }  // namespace mfdem::cli

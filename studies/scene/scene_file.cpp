@@ -6,6 +6,7 @@
 
 #include "dem/state_file.hpp"
 #include "studies/config/config.hpp"
+#include "studies/scene/material_keys.hpp"
 #include "studies/scene/sphere_sources.hpp"
 #include "studies/scene/stone_sources.hpp"
 
@@ -37,16 +38,6 @@ void read_simulation(const Section& s, Scene& scene) {
   scene.seed = static_cast<std::uint64_t>(s.integer_or("seed", 1, {.min = 0}, "random seed"));
 }
 
-void read_guards(const Section& s, dem::GuardSettings& g) {
-  g.max_overlap_fraction = s.number_or("max_overlap_fraction", g.max_overlap_fraction,
-                                       {.min = 0.0, .max = 1.0, .min_exclusive = true},
-                                       "largest overlap as a fraction of the radius");
-  g.check_interval = static_cast<int>(s.integer_or("check_interval", g.check_interval, {.min = 1},
-                                                   "steps between energy checks"));
-  g.energy_growth = s.number_or("energy_growth", g.energy_growth, kPositive,
-                                "allowed energy growth as a fraction of the energy scale");
-}
-
 void read_domain(const Section& s, dem::Domain& d) {
   d.min = to_vec(s.vec3("min", "domain corner in m"));
   d.max = to_vec(s.vec3("max", "domain corner in m"));
@@ -58,22 +49,6 @@ void read_domain(const Section& s, dem::Domain& d) {
       s.fail("periodic", "a list of axis names among \"x\", \"y\", \"z\"");
     d.periodic[axis[0] - 'x'] = true;
   }
-}
-
-dem::Material read_material(const Section& s, const std::string& name) {
-  dem::Material m;
-  m.name = name;
-  m.density = s.number("density", kPositive, "density in kg/m^3");
-  m.normal_stiffness = s.number("normal_stiffness", kPositive, "normal stiffness kn in N/m");
-  m.shear_stiffness = s.number("shear_stiffness", kPositive, "shear stiffness ks in N/m");
-  m.friction = s.number("friction", kNonNegative, "friction coefficient");
-  m.rolling_friction = s.number_or("rolling_friction", 0.0, kNonNegative,
-                                   "rolling friction coefficient mu_r");
-  m.damping_ratio = s.number_or("damping_ratio", 0.0, kFraction,
-                                "viscous damping ratio (fraction of critical)");
-  m.local_damping = s.number_or("local_damping", 0.0, {.min = 0.0, .max = 1.0, .max_exclusive = true},
-                                "local damping coefficient alpha");
-  return m;
 }
 
 void read_pair_override(const Section& s, dem::MaterialTable& materials) {

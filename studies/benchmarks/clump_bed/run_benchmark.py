@@ -224,6 +224,7 @@ def settle_mfdem(exe: str, n: int, seed: int, workdir: Path, templates: list[dic
             log(f"  mfdem settling stage {k} ({'pour' if k == 0 else 'continue'}, "
                 f"{fall if k == 0 else STAGE_SECONDS:.2f} s simulated) ...")
             env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+            env.setdefault("OMP_WAIT_POLICY", "active")  # as the sphere benchmark
             t0 = time.monotonic()
             proc = subprocess.run(cmd, cwd=REPO, env=env, capture_output=True, text=True)
             seconds = time.monotonic() - t0

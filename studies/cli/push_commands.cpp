@@ -1,0 +1,180 @@
+// `mfdem pack`, `mfdem push` and `mfdem push-test`: the single-sleeper lateral push test.
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "dem/stability.hpp"
+#include "studies/cli/common_options.hpp"
+#include "studies/cli/subcommands.hpp"
+#include "studies/railway/bed_preparation.hpp"
+#include "studies/railway/push_output.hpp"
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::cli {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kUnstable = 3;  // as `mfdem run`
+
+struct PackOptions {
+  CommonOptions common;
+  std::string config;
+  bool keep_stages = false;
+};
+
+struct PushOptions {
+  CommonOptions common;
+  std::string packing;          // packing.h5 or a directory holding it (push), config (push-test)
+  std::optional<fs::path> config;
+  std::optional<double> velocity_mm_s, distance_mm;
+  bool check_rate = false;
+};
+
+fs::path packing_file(const fs::path& given) {
+  return fs::is_directory(given) ? given / "packing.h5" : given;
+}
+
+void print_preparation(std::ostream& out, const railway::Packing& p, const railway::PreparationReport& r) {
+  fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({} generated, {} trimmed), time step {:.3g} s\n",
+             p.config.name, p.config.seed, p.stones.size(), p.element_count(), r.stones_generated,
+             r.stones_removed, r.time_step);
+  fmt::print(out, "  {:<10} {:>12} {:>10} {:>16} {:>9} {:>10}\n", "stage", "simulated s", "steps",
+             "unbalanced ratio", "settled", "wall");
+  for (const auto& s : r.stages)
+    fmt::print(out, "  {:<10} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>10}\n", s.name, s.simulated_time, s.steps,
+               s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds));
+  fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n",
+             p.sleeper.centre.z() - p.sleeper.half_extent.z(), p.config.geometry.sleeper_base());
+}
+
+// Packs into options.out; returns the packing file.
+fs::path pack(const PackOptions& o) {
+  railway::PushStudyConfig config = railway::load_push_config(o.config);
+  if (o.common.seed_given) config.seed = o.common.seed;
+  fs::create_directories(o.common.out);
+  railway::PreparationReport report;
+  const railway::Packing packing = railway::prepare_bed(config, o.common.quiet, report,
+                                                              o.keep_stages ? o.common.out : fs::path());
+  const fs::path file = o.common.out / "packing.h5";
+  railway::save_packing(file, packing);
+  print_preparation(std::cout, packing, report);
+  fmt::print("  written: {}\n", file.string());
+  for (const auto& s : report.stages)
+    if (!s.settled)
+      fmt::print(std::cerr, "mfdem: warning: stage '{}' stopped at its time limit, unbalanced force ratio {:.2e}\n",
+                 s.name, s.unbalanced_force_ratio);
+  return file;
+}
+
+int push(const PushOptions& o, const fs::path& packing_path) {
+  const railway::Packing packing = railway::load_packing(packing_path);
+  railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
+  railway::PushRun run;
+  run.velocity = o.velocity_mm_s ? *o.velocity_mm_s * 1e-3 : config.push.velocity;
+  run.distance = o.distance_mm ? *o.distance_mm * 1e-3 : config.push.distance;
+  run.quiet = o.common.quiet;
+  fs::create_directories(o.common.out);
+  run.state_file = o.common.out / "push_state.h5";
+  const railway::PushResult result = railway::run_push(packing, config, run);
+  railway::write_push_file(o.common.out / "push.h5", result);
+  railway::write_push_summary(o.common.out / "push_summary.toml", result, packing);
+  railway::print_push_summary(std::cout, result, packing);
+  fmt::print("  written: {}\n", (o.common.out / "push.h5").string());
+  if (result.status != "finished") return kUnstable;
+  if (!o.check_rate) return 0;
+  railway::PushRun slow = run;
+  slow.velocity = 0.5 * run.velocity;
+  const fs::path half_dir = o.common.out / "half_velocity";
+  fs::create_directories(half_dir);
+  slow.state_file = half_dir / "push_state.h5";
+  const railway::PushResult half = railway::run_push(packing, config, slow);
+  railway::write_push_file(half_dir / "push.h5", half);
+  railway::write_push_summary(half_dir / "push_summary.toml", half, packing);
+  railway::print_rate_check(std::cout, result, half);
+  return half.status == "finished" ? 0 : kUnstable;
+}
+
+int guarded(const std::function<int()>& work) {
+  try {
+    return work();
+  } catch (const dem::StabilityError& e) {
+    fmt::print(std::cerr, "mfdem: unstable: {}\n", e.what());
+    return kUnstable;
+  }
+}
+
+void add_push_options(CLI::App& command, PushOptions& o) {
+  command.add_option_function<double>("--velocity", [&o](const double& v) { o.velocity_mm_s = v; },
+                                      "Sleeper velocity in mm/s (default: the config's [push] velocity)")
+      ->check(CLI::PositiveNumber);
+  command.add_option_function<double>("--distance", [&o](const double& d) { o.distance_mm = d; },
+                                      "Push distance u_end in mm (default: the config's, 5 mm)")
+      ->check(CLI::PositiveNumber);
+  command.add_flag("--check-rate", o.check_rate,
+                   "Repeat the push at half the velocity and report the change of the peak force");
+}
+
+}  // namespace
+
+void add_push_commands(CLI::App& app, Action& action) {
+  auto pack_options = std::make_shared<PackOptions>();
+  CLI::App* pack_command = app.add_subcommand("pack", "Prepare a seeded ballast bed under a sleeper (packing.h5)");
+  pack_command->add_option("config", pack_options->config,
+                           "A preset (mini, standard, paper) or a study config file (TOML)")->required();
+  pack_command->add_flag("--keep-stages", pack_options->keep_stages,
+                         "Also write the deposition and settling stages (OUT/deposit.h5, settle.h5, + .xdmf)");
+  add_common_options(*pack_command, pack_options->common);
+  pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
+                       "The procedure is described in studies/presets/README.md.");
+  pack_command->callback([pack_options, &action] {
+    action = [pack_options] {
+      apply_thread_count(pack_options->common);
+      return guarded([&] {
+        pack(*pack_options);
+        return 0;
+      });
+    };
+  });
+
+  auto push_options = std::make_shared<PushOptions>();
+  CLI::App* push_command = app.add_subcommand("push", "Push the sleeper of a prepared bed laterally");
+  push_command->add_option("packing", push_options->packing, "packing.h5, or the directory 'mfdem pack' wrote")
+      ->required();
+  push_command->add_option_function<std::string>(
+      "--config", [o = push_options.get()](const std::string& c) { o->config = c; },
+      "Take materials, guards and [push] settings from this config instead of the packing's own");
+  add_push_options(*push_command, *push_options);
+  add_common_options(*push_command, push_options->common);
+  push_command->callback([push_options, &action] {
+    action = [push_options] {
+      apply_thread_count(push_options->common);
+      return guarded([&] { return push(*push_options, packing_file(push_options->packing)); });
+    };
+  });
+
+  auto one_shot = std::make_shared<PushOptions>();
+  CLI::App* test_command =
+      app.add_subcommand("push-test", "Prepare a bed and push its sleeper in one go (pack, then push)");
+  test_command->add_option("config", one_shot->packing, "A preset (mini, standard, paper) or a study config file")
+      ->required();
+  add_push_options(*test_command, *one_shot);
+  add_common_options(*test_command, one_shot->common);
+  test_command->callback([one_shot, &action] {
+    action = [one_shot] {
+      apply_thread_count(one_shot->common);
+      return guarded([&] {
+        PackOptions p;
+        p.common = one_shot->common;
+        p.config = one_shot->packing;
+        // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.
+        return push(*one_shot, pack(p));
+      });
+    };
+  });
+}
+
+}  // namespace mfdem::cli

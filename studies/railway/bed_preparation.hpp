@@ -1,0 +1,43 @@
+#pragma once
+// Seeded preparation of the ballast bed of a single-sleeper section.
+//
+// The procedure (every number a config key, see studies/presets/README.md):
+// 1. Stones. Draw stone k = 0, 1, ... from the shape library and the grading with its own seeded
+//    stream (fidelity::StoneSampler): template, sieve size, orientation. The count fills the
+//    container below up to the ballast top at the expected solid fraction, times `overfill`.
+// 2. Placement. Stones stand in vertical columns on a grid across the container (pitch: the
+//    largest stone's bounding diameter), each stacked on the one below by its own bounding
+//    sphere, with a seeded sideways jitter; no two stones touch at the start.
+// 3. Deposition (compaction). Between the floor and container walls at the shoulder toes, the
+//    stones fall from rest at `drop_speed` with the stone friction lowered to
+//    `deposition_friction` and local damping `local_damping`: low friction lets them find a
+//    dense arrangement, as the "reduced friction" compaction of PFC studies does. The stage
+//    ends when the mean unbalanced force ratio is below `equilibrium_ratio`.
+// 4. Trimming and sleeper placement. Stones whose centre lies above the design surface (crib
+//    and shoulder crest at the sleeper top, the shoulder slope beyond) or which intersect the
+//    sleeper's volume are removed; the container walls go; the sleeper box is placed with its
+//    base at depth_under_sleeper, held across and along the track and free vertically.
+// 5. Settling. With the design friction restored, the bed and the sleeper settle under gravity
+//    until the mean unbalanced force ratio is below `equilibrium_ratio` again.
+#include <filesystem>
+#include <vector>
+
+#include "studies/railway/packing.hpp"
+#include "studies/railway/stage_runner.hpp"
+
+namespace mfdem::railway {
+
+struct PreparationReport {
+  std::int64_t stones_generated = 0;
+  std::int64_t stones_removed = 0;
+  double time_step = 0.0;          // s
+  std::vector<StageReport> stages;
+};
+
+// Throws std::invalid_argument for geometry that cannot be built (railway::validate), and
+// dem::StabilityError when a stage becomes unstable.
+// With `stage_directory`, each stage's states go to deposit.h5 and settle.h5 (+ .xdmf) there.
+Packing prepare_bed(const PushStudyConfig& config, bool quiet, PreparationReport& report,
+                    const std::filesystem::path& stage_directory = {});
+
+}  // namespace mfdem::railway

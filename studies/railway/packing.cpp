@@ -1,0 +1,140 @@
+#include "studies/railway/packing.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <stdexcept>
+
+#include "dem/hdf5_io.hpp"
+#include "dem/state_file.hpp"
+#include "studies/railway/section_simulation.hpp"
+
+namespace mfdem::railway {
+namespace {
+
+constexpr const char* kFormat = "mfdem-packing-1";
+
+void write_vec3_attribute(hid_t loc, const std::string& name, const dem::Vec3& v) {
+  for (int a = 0; a < 3; ++a) dem::h5::write_attribute(loc, name + "_" + "xyz"[a], v[a]);
+}
+
+dem::Vec3 read_vec3_attribute(hid_t loc, const std::string& name) {
+  dem::Vec3 v;
+  for (int a = 0; a < 3; ++a) v[a] = dem::h5::read_attribute(loc, name + "_" + "xyz"[a]);
+  return v;
+}
+
+}  // namespace
+
+std::int64_t Packing::element_count() const {
+  std::int64_t n = 0;
+  for (const auto& b : bodies) n += static_cast<std::int64_t>(b.pebbles.size());
+  return n;
+}
+
+std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim) {
+  const dem::Bodies& bodies = sim.bodies();
+  const dem::Elements& elements = sim.elements();
+  std::vector<dem::ClumpSpec> out(bodies.size());
+  for (dem::Index b = 0; b < bodies.size(); ++b) {
+    dem::ClumpSpec& c = out[b];
+    c.position = bodies.position[b];
+    c.velocity = bodies.velocity[b];
+    c.angular_velocity = bodies.angular_velocity[b];
+    c.orientation = bodies.orientation[b];
+    c.mass = bodies.mass[b];
+    c.principal_inertia = bodies.inertia[b];
+    for (dem::Index e = bodies.element_begin(b); e < bodies.element_end(b); ++e) {
+      c.pebbles.push_back({elements.offset[e], elements.radius[e]});
+      c.material = elements.material[e];
+    }
+  }
+  return out;
+}
+
+void save_packing(const std::filesystem::path& path, const Packing& p) {
+  StageSetup setup;
+  setup.sleeper = p.sleeper;
+  dem::Simulation sim = make_section_simulation(p.config, p.domain, p.bodies, setup);
+  sim.prepare();  // sizes the force records the frame holds; the bodies do not move
+  {
+    dem::StateFile file(path, sim, fmt::format("prepared ballast bed, {} (seed {})", p.config.name, p.config.seed));
+    file.write_frame(sim);
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot reopen " + path.string());
+  const hid_t g = dem::h5::make_group(file, "packing");
+  using dem::h5::write_attribute;
+  write_attribute(g, "format", std::string(kFormat));
+  write_attribute(g, "seed", static_cast<double>(p.config.seed));
+  write_attribute(g, "config", p.config.text);
+  write_attribute(g, "config_source", p.config.source.string());
+  write_attribute(g, "preparation_time", p.preparation_time);
+  write_attribute(g, "unbalanced_force_ratio", p.unbalanced_force_ratio);
+  write_vec3_attribute(g, "domain_min", p.domain.min);
+  write_vec3_attribute(g, "domain_max", p.domain.max);
+  write_attribute(g, "periodic_y", p.domain.periodic[1] ? 1.0 : 0.0);
+  write_vec3_attribute(g, "sleeper_centre", p.sleeper.centre);
+  write_vec3_attribute(g, "sleeper_half_extent", p.sleeper.half_extent);
+  write_attribute(g, "sleeper_mass", p.sleeper.mass);
+  std::vector<dem::Index> ids, templates;
+  std::vector<double> sizes;
+  for (const auto& s : p.stones) {
+    ids.push_back(static_cast<dem::Index>(s.id));
+    templates.push_back(s.template_index);
+    sizes.push_back(s.size);
+  }
+  dem::h5::write_ints(g, "stone_id", ids);
+  dem::h5::write_ints(g, "template", templates);
+  dem::h5::write_doubles(g, "size", sizes);
+  H5Gclose(g);
+  H5Fclose(file);
+}
+
+Packing load_packing(const std::filesystem::path& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error(fmt::format("{}: cannot open it as an HDF5 file", path.string()));
+  Packing p;
+  try {
+    if (H5Lexists(file, "packing", H5P_DEFAULT) <= 0)
+      throw std::runtime_error("no /packing group: not a packing written by `mfdem pack`");
+    const hid_t g = H5Gopen2(file, "packing", H5P_DEFAULT);
+    using dem::h5::read_attribute;
+    const std::string format = dem::h5::read_text_attribute(g, "format");
+    if (format != kFormat) throw std::runtime_error(fmt::format("format '{}', expected '{}'", format, kFormat));
+    p.config = parse_push_config(dem::h5::read_text_attribute(g, "config"),
+                                 dem::h5::read_text_attribute(g, "config_source"));
+    p.config.seed = static_cast<std::uint64_t>(read_attribute(g, "seed"));
+    p.preparation_time = read_attribute(g, "preparation_time");
+    p.unbalanced_force_ratio = read_attribute(g, "unbalanced_force_ratio");
+    p.domain.min = read_vec3_attribute(g, "domain_min");
+    p.domain.max = read_vec3_attribute(g, "domain_max");
+    p.domain.periodic = {false, read_attribute(g, "periodic_y") != 0.0, false};
+    p.sleeper.name = "sleeper";
+    p.sleeper.centre = read_vec3_attribute(g, "sleeper_centre");
+    p.sleeper.half_extent = read_vec3_attribute(g, "sleeper_half_extent");
+    p.sleeper.mass = read_attribute(g, "sleeper_mass");
+    const auto ids = dem::h5::read_ints(g, "stone_id");
+    const auto templates = dem::h5::read_ints(g, "template");
+    const auto sizes = dem::h5::read_doubles(g, "size");
+    for (std::size_t k = 0; k < ids.size(); ++k) p.stones.push_back({ids[k], static_cast<int>(templates[k]), sizes[k]});
+    H5Gclose(g);
+  } catch (const std::exception& e) {
+    H5Fclose(file);
+    throw std::runtime_error(fmt::format("{}: {}", path.string(), e.what()));
+  }
+  H5Fclose(file);
+  const int frames = dem::count_frames(path);
+  const dem::StateFrame frame = dem::read_frame(path, frames - 1);
+  // The packing's materials are ballast, sleeper, floor in that order (bed_preparation.cpp).
+  std::vector<int> material_of;
+  for (const auto& name : frame.material_names)
+    material_of.push_back(name == "ballast" ? 0 : name == "sleeper" ? 1 : 2);
+  p.bodies = dem::bodies_of(frame, material_of);
+  if (p.bodies.size() != p.stones.size())
+    throw std::runtime_error(fmt::format("{}: {} bodies but {} stone records", path.string(),
+                                         p.bodies.size(), p.stones.size()));
+  return p;
+}
+
+}  // namespace mfdem::railway

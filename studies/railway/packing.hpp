@@ -1,0 +1,51 @@
+#pragma once
+// A prepared ballast bed under its sleeper: the result of `mfdem pack`, the start of every push.
+//
+// Saved as an mfdem state file (one frame: the settled bodies, readable by h5py and, through the
+// .xdmf beside it, by ParaView; layout in dem/state_file.hpp) plus a /packing group:
+//   /packing                attrs: format = "mfdem-packing-1", seed, config (the TOML text it was
+//                           made from), config_source, preparation_time (s),
+//                           unbalanced_force_ratio (at the end), domain_min, domain_max,
+//                           periodic_y (1 or 0), sleeper_centre, sleeper_half_extent (m),
+//                           sleeper_mass (kg)
+//   /packing/stone_id       [bodies]  index of the stone's seeded draw (fidelity::StoneSampler)
+//   /packing/template       [bodies]  index of its template in the shape library
+//   /packing/size           [bodies]  sieve size d, m
+// Every number is stored as the double the solver held, so a push from the file is bitwise the
+// push from memory.
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "dem/simulation.hpp"
+#include "studies/railway/push_config.hpp"
+
+namespace mfdem::railway {
+
+struct StoneRecord {
+  std::int64_t id = 0;     // draw index
+  int template_index = 0;
+  double size = 0.0;       // m
+};
+
+struct Packing {
+  PushStudyConfig config;
+  std::vector<StoneRecord> stones;      // one per body
+  std::vector<dem::ClumpSpec> bodies;   // their state (a ball is a one-pebble clump at its centre)
+  dem::RigidBox sleeper;
+  dem::Domain domain;
+  double preparation_time = 0.0;        // s simulated
+  double unbalanced_force_ratio = 0.0;  // at the end of preparation
+
+  std::int64_t element_count() const;
+};
+
+// The bodies of a simulation (all but its boxes) as ClumpSpecs, exactly as held.
+std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim);
+
+// Writes `path` (and path.xdmf).
+void save_packing(const std::filesystem::path& path, const Packing& packing);
+// Throws std::runtime_error naming the file and what is missing.
+Packing load_packing(const std::filesystem::path& path);
+
+}  // namespace mfdem::railway

@@ -1,0 +1,147 @@
+#include "studies/railway/push_config.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "studies/config/config.hpp"
+#include "studies/scene/material_keys.hpp"
+
+namespace mfdem::railway {
+namespace {
+
+using config::Range;
+using config::Section;
+const Range kPositive{.min = 0.0, .min_exclusive = true};
+const Range kNonNegative{.min = 0.0};
+const Range kBelowOne{.min = 0.0, .max = 1.0, .max_exclusive = true};
+
+void read_section(const Section& s, SectionGeometry& g) {
+  g.sleeper_length = s.number_or("sleeper_length", g.sleeper_length, kPositive, "sleeper length in m");
+  g.sleeper_width = s.number_or("sleeper_width", g.sleeper_width, kPositive, "sleeper width in m");
+  g.sleeper_height = s.number_or("sleeper_height", g.sleeper_height, kPositive, "sleeper height in m");
+  g.sleeper_mass = s.number_or("sleeper_mass", g.sleeper_mass, kPositive, "sleeper mass in kg");
+  g.section_length = s.number_or("section_length", g.section_length, kPositive,
+                                 "sleeper spacing along the track in m");
+  g.depth_under_sleeper = s.number_or("depth_under_sleeper", g.depth_under_sleeper, kPositive,
+                                      "ballast depth under the sleeper in m");
+  g.shoulder_width = s.number_or("shoulder_width", g.shoulder_width, kNonNegative,
+                                 "shoulder width beyond the sleeper end in m");
+  g.shoulder_slope = s.number_or("shoulder_slope", g.shoulder_slope, kPositive,
+                                 "shoulder slope, horizontal per vertical (1.5 for 1:1.5)");
+  g.periodic_along_track = s.choice("along_track", {"periodic", "walls"}, "periodic") == "periodic";
+}
+
+void read_stones(const Section& s, const std::filesystem::path& source, StoneSettings& t) {
+  if (s.has("library")) {
+    t.library = s.text("library");
+    if (t.library.is_relative()) t.library = source.parent_path() / t.library;
+  }
+  t.representation = s.choice("representation", {"clump", "ball"}, t.representation);
+  t.solid_fraction = s.number_or("solid_fraction", t.solid_fraction, {.min = 0.2, .max = 0.8},
+                                 "expected solid fraction of the settled bed");
+  t.overfill = s.number_or("overfill", t.overfill, {.min = 1.0, .max = 2.0},
+                           "stones generated per stone expected in the profile");
+  t.fixed_size = s.number_or("size", 0.0, kNonNegative, "fixed sieve size in m (0: EN 13450 grading)");
+}
+
+void read_preparation(const Section& s, PreparationSettings& p) {
+  p.deposition_friction = s.number_or("deposition_friction", p.deposition_friction, kNonNegative,
+                                      "stone friction coefficient while depositing");
+  p.drop_speed = s.number_or("drop_speed", p.drop_speed, kNonNegative, "initial downward speed of the highest stone in m/s");
+  p.deposition_local_damping = s.number_or("deposition_local_damping", p.deposition_local_damping, kBelowOne,
+                                           "local damping alpha of the stones while depositing");
+  p.local_damping = s.number_or("local_damping", p.local_damping, kBelowOne,
+                                "local damping alpha of the stones while settling");
+  p.deposition_ratio = s.number_or("deposition_ratio", p.deposition_ratio, kPositive,
+                                   "mean unbalanced force ratio that ends the deposition");
+  p.equilibrium_ratio = s.number_or("equilibrium_ratio", p.equilibrium_ratio, kPositive,
+                                    "mean unbalanced force ratio that counts as settled");
+  p.max_deposition_time = s.number_or("max_deposition_time", p.max_deposition_time, kPositive,
+                                      "longest deposition in simulated s");
+  p.max_settling_time = s.number_or("max_settling_time", p.max_settling_time, kPositive,
+                                    "longest settling stage in simulated s");
+}
+
+void read_push(const Section& s, PushSettings& p) {
+  p.velocity = s.number_or("velocity", p.velocity, kPositive, "lateral sleeper velocity in m/s");
+  p.distance = s.number_or("distance", p.distance, kPositive, "push distance u_end in m");
+  p.record_interval = s.number_or("record_interval", p.record_interval, kPositive,
+                                  "sleeper displacement between F(u) samples in m");
+  p.local_damping = s.number_or("local_damping", p.local_damping, kBelowOne,
+                                "local damping alpha of the stones while pushing");
+  p.network_samples = static_cast<int>(s.integer_or("network_samples", p.network_samples, {.min = 1},
+                                                    "samples of the inertial number during the push"));
+  if (p.record_interval > p.distance) s.fail("record_interval", "at most the push distance");
+}
+
+dem::Material table1_material(const std::string& name, double stiffness, double density) {
+  dem::Material m;
+  m.name = name;
+  m.density = density;
+  m.normal_stiffness = stiffness;
+  m.shear_stiffness = stiffness;
+  m.friction = 0.5;
+  return m;
+}
+
+PushStudyConfig read(const Section& root, const std::string& text, const std::filesystem::path& source) {
+  PushStudyConfig c;
+  c.source = source;
+  c.text = text;
+  c.name = root.text_or("name", source.stem().string());
+  c.seed = static_cast<std::uint64_t>(root.integer_or("seed", 1, {.min = 0}, "random seed"));
+  c.time_step_safety = root.number_or("time_step_safety", c.time_step_safety,
+                                      {.min = 0.0, .max = 1.0, .min_exclusive = true},
+                                      "fraction of the critical time step");
+  if (auto s = root.optional_section("section")) read_section(*s, c.geometry);
+  if (auto s = root.optional_section("stones")) read_stones(*s, source, c.stones);
+  if (auto s = root.optional_section("preparation")) read_preparation(*s, c.preparation);
+  if (auto s = root.optional_section("push")) read_push(*s, c.push);
+  if (auto s = root.optional_section("guards")) scene::read_guards(*s, c.guards);
+  // Table 1 of the paper unless the config says otherwise. The sleeper's density only sets
+  // nothing (its mass is sleeper_mass); the floor is as stiff as the sleeper.
+  c.ballast = table1_material("ballast", 2e7, 2800.0);
+  c.ballast.damping_ratio = 0.2;
+  c.sleeper = table1_material("sleeper", 5e9, 2400.0);
+  c.floor = table1_material("floor", 5e9, 2400.0);
+  if (auto m = root.optional_section("materials")) {
+    for (const auto& name : m->names()) {
+      if (name != "ballast" && name != "sleeper" && name != "floor")
+        m->fail(name, "one of the materials ballast, sleeper, floor");
+      const dem::Material read = scene::read_material(m->section(name), name);
+      (name == "ballast" ? c.ballast : name == "sleeper" ? c.sleeper : c.floor) = read;
+    }
+  }
+  root.finish();
+  return c;
+}
+
+}  // namespace
+
+std::filesystem::path preset_directory() { return MFDEM_PRESET_DIR; }
+
+PushStudyConfig parse_push_config(const std::string& text, const std::filesystem::path& source) {
+  return read(config::parse(text, source.string()), text, source);
+}
+
+PushStudyConfig load_push_config(const std::string& preset_or_file) {
+  std::filesystem::path file = preset_or_file;
+  if (!std::filesystem::exists(file)) {
+    const auto preset = preset_directory() / (preset_or_file + ".toml");
+    if (preset_or_file.find('/') != std::string::npos || !std::filesystem::exists(preset))
+      throw std::runtime_error(fmt::format(
+          "{}: no such file, and not a preset (the presets are mini, standard and paper, in {})",
+          preset_or_file, preset_directory().string()));
+    file = preset;
+  }
+  std::ifstream in(file);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  return read(config::load(file), text, file);
+}
+
+}  // namespace mfdem::railway

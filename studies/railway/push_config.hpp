@@ -1,0 +1,67 @@
+#pragma once
+// The configuration of a single-sleeper push study: the section, the stones, the materials, the
+// bed preparation and the push. Read from a TOML file; the shipped presets (mini, standard,
+// paper) are such files in studies/presets/, and every key is documented in
+// studies/presets/README.md.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "dem/material.hpp"
+#include "dem/stability.hpp"
+#include "studies/railway/section_geometry.hpp"
+
+namespace mfdem::railway {
+
+struct StoneSettings {
+  std::filesystem::path library;       // clump templates; empty: the shipped 6-pebble library
+  std::string representation = "clump";  // "clump" (the reference model) or "ball" (all balls)
+  double solid_fraction = 0.58;        // expected in the settled bed: sizes the number of stones
+  double overfill = 1.10;              // stones generated / stones expected in the profile
+  double fixed_size = 0.0;             // m; > 0: every stone has this sieve size (tests), else graded
+};
+
+// Bed preparation (see bed_preparation.hpp for the procedure).
+struct PreparationSettings {
+  double deposition_friction = 0.1;   // stone-stone mu while depositing: a denser bed
+  double drop_speed = 6.0;            // m/s downward of the highest stone as deposition starts
+  double deposition_local_damping = 0.0;  // alpha while depositing: local damping slows free fall
+  double local_damping = 0.7;         // alpha of the stones while settling
+  double deposition_ratio = 1e-2;     // deposition ends when the mean unbalanced force ratio is below this
+  double equilibrium_ratio = 1e-3;    // the bed is settled when the ratio is below this
+  double max_deposition_time = 1.5;   // s of simulated time, a limit
+  double max_settling_time = 1.0;     // s, a limit for each settling stage
+};
+
+struct PushSettings {
+  double velocity = 0.05;          // m/s, lateral (+x) sleeper speed
+  double distance = 5e-3;          // m, u_end
+  double record_interval = 1e-5;   // m of sleeper displacement between F(u) samples
+  double local_damping = 0.7;      // alpha of the stones during the push (quasi-static stage)
+  int network_samples = 50;        // inertial-number and stress samples during the push
+};
+
+struct PushStudyConfig {
+  std::filesystem::path source;     // the file it came from
+  std::string text;                 // its contents, kept in the packing for reproduction
+  std::string name;                 // preset or file stem
+  std::uint64_t seed = 1;
+  SectionGeometry geometry;
+  StoneSettings stones;
+  dem::Material ballast, sleeper, floor;
+  PreparationSettings preparation;
+  PushSettings push;
+  double time_step_safety = 0.2;    // automatic step = safety x critical step
+  dem::GuardSettings guards;
+};
+
+// A preset name (mini, standard, paper) or a path to a TOML file. Throws config::ConfigError
+// naming file, line, key, value and expectation; std::runtime_error for an unknown preset.
+PushStudyConfig load_push_config(const std::string& preset_or_file);
+// Parses a config held in memory (from a packing file); `source` names it in messages.
+PushStudyConfig parse_push_config(const std::string& text, const std::filesystem::path& source);
+
+// The directory of the shipped presets.
+std::filesystem::path preset_directory();
+
+}  // namespace mfdem::railway

@@ -1,0 +1,124 @@
+#include "studies/railway/push_output.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <hdf5.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "dem/hdf5_io.hpp"
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::railway {
+
+const char* const kPushDefinitions =
+    "F(u): minus the sum of the stones' contact forces on the sleeper along the push (+x), mean over each "
+    "record interval, against the sleeper's lateral displacement u. Peak lateral force: max F(u) for u in "
+    "[0, u_end]. Maximum particle contact force: max |f| over stone-stone contacts at u_end; q99.9: its "
+    "99.9 % nearest-rank quantile. Inertial number I = (v / sleeper height) d_mean / sqrt(p / rho), p the "
+    "mean stress of the stone contacts over the bed.";
+
+namespace {
+
+template <class T, class F>
+std::vector<double> column(const std::vector<T>& rows, F field) {
+  std::vector<double> out;
+  out.reserve(rows.size());
+  for (const auto& r : rows) out.push_back(field(r));
+  return out;
+}
+
+}  // namespace
+
+void write_push_file(const std::filesystem::path& path, const PushResult& r) {
+  using namespace dem::h5;
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot create " + path.string());
+  write_attribute(file, "format", std::string("mfdem-push-1"));
+  write_attribute(file, "definitions", std::string(kPushDefinitions));
+  write_attribute(file, "status", r.status);
+  write_attribute(file, "message", r.message);
+  const std::pair<const char*, double> numbers[] = {
+      {"velocity", r.velocity}, {"distance", r.distance}, {"peak_force", r.peak_force},
+      {"u_at_peak", r.u_at_peak}, {"max_contact_force", r.max_contact_force},
+      {"contact_force_q999", r.contact_force_q999}, {"mean_contact_force", r.mean_contact_force},
+      {"max_inertial_number", r.max_inertial_number}, {"final_heave", r.final_heave},
+      {"time_step", r.time_step}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
+      {"stones", static_cast<double>(r.stones)}, {"elements", static_cast<double>(r.elements)}};
+  for (const auto& [name, value] : numbers) write_attribute(file, name, value);
+  write_doubles(file, "curve/u", column(r.curve, [](auto& s) { return s.u; }));
+  write_doubles(file, "curve/force", column(r.curve, [](auto& s) { return s.force; }));
+  write_doubles(file, "curve/heave", column(r.curve, [](auto& s) { return s.heave; }));
+  write_doubles(file, "curve/time", column(r.curve, [](auto& s) { return s.time; }));
+  write_doubles(file, "network/u", column(r.network, [](auto& s) { return s.u; }));
+  write_doubles(file, "network/mean_stress", column(r.network, [](auto& s) { return s.mean_stress; }));
+  write_doubles(file, "network/inertial_number", column(r.network, [](auto& s) { return s.inertial_number; }));
+  write_doubles(file, "network/coordination", column(r.network, [](auto& s) { return s.coordination; }));
+  std::vector<dem::Index> a, b, ids;
+  std::vector<dem::Vec3> point, force;
+  for (const auto& c : r.end_contacts) {
+    a.push_back(c.body_a);
+    b.push_back(c.body_b);
+    point.push_back(c.point);
+    force.push_back(c.force);
+  }
+  for (auto id : r.stone_id) ids.push_back(static_cast<dem::Index>(id));
+  write_ints(file, "end_state/contact_body_a", a);
+  write_ints(file, "end_state/contact_body_b", b);
+  write_vec3s(file, "end_state/contact_point", point);
+  write_vec3s(file, "end_state/contact_force", force);
+  write_vec3s(file, "end_state/position", r.end_position);
+  write_vec3s(file, "end_state/displacement", r.displacement);
+  write_ints(file, "end_state/stone_id", ids);
+  H5Fclose(file);
+}
+
+void write_push_summary(const std::filesystem::path& path, const PushResult& r, const Packing& p) {
+  std::ofstream out(path);
+  out << "# mfdem push summary; forces in N, lengths in m, times in s\n"
+      << fmt::format("# {}\n", kPushDefinitions)
+      << fmt::format("config = \"{}\"\nseed = {}\nstatus = \"{}\"\n", p.config.name, p.config.seed, r.status);
+  if (!r.message.empty()) out << fmt::format("message = \"\"\"{}\"\"\"\n", r.message);
+  out << fmt::format(
+      "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\n"
+      "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
+      "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
+      r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
+      r.contact_force_q999, r.mean_contact_force, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.wall_seconds);
+}
+
+void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p) {
+  fmt::print(out, "\nPush test: {} (seed {}), {} stones, {} elements, status {}\n", p.config.name, p.config.seed,
+             r.stones, r.elements, r.status);
+  fmt::print(out, "  {:<38} {:>12}\n", "quantity", "value");
+  const auto row = [&](const std::string& name, const std::string& value) { fmt::print(out, "  {:<38} {:>12}\n", name, value); };
+  row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));
+  row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));
+  row("peak lateral force (kN)", fmt::format("{:.3f}", r.peak_force * 1e-3));
+  row("  at u (mm)", fmt::format("{:.3f}", r.u_at_peak * 1e3));
+  row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));
+  row("max particle contact force (kN)", fmt::format("{:.3f}", r.max_contact_force * 1e-3));
+  row("  99.9 % quantile (kN)", fmt::format("{:.3f}", r.contact_force_q999 * 1e-3));
+  row("  mean (N)", fmt::format("{:.1f}", r.mean_contact_force));
+  row("sleeper heave at u_end (mm)", fmt::format("{:.3f}", r.final_heave * 1e3));
+  row("max inertial number", fmt::format("{:.2e}", r.max_inertial_number));
+  row("time step (s)", fmt::format("{:.3g}", r.time_step));
+  row("steps", fmt::format("{}", r.steps));
+  row("wall time", scene::format_duration(r.wall_seconds));
+  fmt::print(out, "Definitions: {}\n", kPushDefinitions);
+  if (!r.message.empty()) fmt::print(out, "Stopped: {}\n", r.message);
+}
+
+void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half) {
+  const double change = (half.peak_force - full.peak_force) / full.peak_force;
+  fmt::print(out, "\nRate check (quasi-static evidence): the push repeated at half the velocity\n");
+  fmt::print(out, "  {:<18} {:>14} {:>14} {:>16}\n", "velocity (mm/s)", "peak F (kN)", "max I", "q99.9 f (kN)");
+  for (const PushResult* r : {&full, &half})
+    fmt::print(out, "  {:<18.4g} {:>14.3f} {:>14.2e} {:>16.3f}\n", r->velocity * 1e3, r->peak_force * 1e-3,
+               r->max_inertial_number, r->contact_force_q999 * 1e-3);
+  fmt::print(out, "  change of the peak force at half the velocity: {:+.2f} %\n", 100.0 * change);
+}
+
+}  // namespace mfdem::railway

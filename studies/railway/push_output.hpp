@@ -1,0 +1,31 @@
+#pragma once
+// What a push test leaves behind, for people and for programs:
+//   push.h5       attrs: format = "mfdem-push-1", definitions (the text of push_test.hpp's
+//                 definitions), velocity, distance, peak_force, u_at_peak, max_contact_force,
+//                 contact_force_q999, mean_contact_force, max_inertial_number, final_heave,
+//                 time_step, steps, wall_seconds, stones, elements, status, message
+//                 /curve/{u, force, heave, time}                F(u) samples (m, N, m, s)
+//                 /network/{u, mean_stress, inertial_number, coordination}
+//                 /end_state/contact_body_a, contact_body_b    [contacts] stone indices
+//                 /end_state/contact_point, contact_force      [contacts, 3] (force on b, N)
+//                 /end_state/position, displacement            [stones, 3] m
+//                 /end_state/stone_id                          [stones] seeded draw index
+//   push_state.h5 (+ .xdmf): state frames at the start, every millimetre and the end
+//   push_summary.toml and the printed table: the headline numbers.
+#include <filesystem>
+#include <ostream>
+
+#include "studies/railway/push_test.hpp"
+
+namespace mfdem::railway {
+
+void write_push_file(const std::filesystem::path& path, const PushResult& result);
+void write_push_summary(const std::filesystem::path& path, const PushResult& result, const Packing& packing);
+void print_push_summary(std::ostream& out, const PushResult& result, const Packing& packing);
+// The two pushes of --check-rate and the change of the peak force between them.
+void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half);
+
+// The definitions of the outputs, printed in every report.
+extern const char* const kPushDefinitions;
+
+}  // namespace mfdem::railway

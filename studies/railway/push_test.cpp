@@ -1,0 +1,149 @@
+#include "studies/railway/push_test.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "dem/state_file.hpp"
+#include "studies/railway/section_simulation.hpp"
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::railway {
+namespace {
+
+constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate printed at the start
+
+// The periodic image of d nearest zero along y.
+dem::Vec3 nearest_image(dem::Vec3 d, const dem::Domain& domain) {
+  if (domain.periodic[1]) {
+    const double l = domain.length().y();
+    d.y() -= l * std::round(d.y() / l);
+  }
+  return d;
+}
+
+NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& c, double u, double velocity,
+                             double mean_size, double volume) {
+  const auto contacts = sim.contacts();
+  double virial = 0.0;
+  for (const auto& k : contacts) {
+    const dem::Vec3 branch = nearest_image(sim.bodies().position[k.body_b] - sim.bodies().position[k.body_a], sim.domain());
+    virial += k.force.dot(branch);
+  }
+  NetworkSample s;
+  s.u = u;
+  s.mean_stress = virial / (3.0 * volume);
+  const double shear_rate = velocity / c.geometry.sleeper_height;
+  s.inertial_number = s.mean_stress > 0.0 ? shear_rate * mean_size / std::sqrt(s.mean_stress / c.ballast.density) : 0.0;
+  s.coordination = 2.0 * static_cast<double>(contacts.size()) / std::max<double>(1.0, sim.bodies().size());
+  return s;
+}
+
+}  // namespace
+
+double bed_volume(const SectionGeometry& g) {
+  const double profile = (g.crest_half_width() + g.toe_half_width()) * g.ballast_top();
+  return profile * g.section_length - g.sleeper_length * g.sleeper_width * g.sleeper_height;
+}
+
+double nearest_rank_quantile(std::vector<double>& values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
+}
+
+PushResult run_push(const Packing& packing, const PushStudyConfig& c, const PushRun& run) {
+  StageSetup stage;
+  stage.stone_friction = c.ballast.friction;
+  stage.stone_local_damping = c.push.local_damping;
+  dem::RigidBox sleeper = packing.sleeper;
+  sleeper.velocity = dem::Vec3(run.velocity, 0.0, 0.0);
+  sleeper.driven = {true, true, false};
+  stage.sleeper = sleeper;
+  dem::Simulation sim = make_section_simulation(c, packing.domain, packing.bodies, stage);
+  sim.prepare();
+
+  PushResult r;
+  r.velocity = run.velocity;
+  r.distance = run.distance;
+  r.time_step = sim.time_step();
+  r.stones = sim.bodies().size();
+  r.elements = sim.elements().size();
+  double mean_size = 0.0;
+  for (const auto& s : packing.stones) {
+    mean_size += s.size;
+    r.stone_id.push_back(s.id);
+  }
+  mean_size /= std::max<std::size_t>(1, packing.stones.size());
+  const double volume = bed_volume(c.geometry);
+  r.start_position = sim.bodies().position;
+
+  const double dt = sim.time_step();
+  const std::int64_t total = std::llround(run.distance / (run.velocity * dt));
+  const std::int64_t record_every = std::max<std::int64_t>(1, std::llround(c.push.record_interval / (run.velocity * dt)));
+  const std::int64_t network_every = std::max<std::int64_t>(1, total / c.push.network_samples);
+  const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(1e-3 / (run.velocity * dt)));
+  const double x0 = sim.boxes()[0].centre.x(), z0 = sim.boxes()[0].centre.z();
+  r.curve.push_back({0.0, -sim.box_force(0).x(), 0.0, 0.0});
+  r.network.push_back(sample_network(sim, c, 0.0, run.velocity, mean_size, volume));
+
+  std::optional<dem::StateFile> frames;
+  if (run.state_file) {
+    frames.emplace(*run.state_file, sim, fmt::format("push of {} at {} m/s", c.name, run.velocity));
+    frames->write_frame(sim);
+  }
+  scene::Progress progress("push", run.distance * 1e3, run.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  double force_sum = 0.0;
+  std::int64_t in_interval = 0;
+  std::int64_t k = 1;
+  try {
+  for (; k <= total; ++k) {
+    sim.step();
+    if (k == kEstimateSteps && !run.quiet) {
+      const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
+      fmt::print(stderr, "push: {} stones, {} elements, time step {:.3g} s, {} steps, estimated {}\n", r.stones,
+                 r.elements, dt, total, scene::format_duration(per_step * total));
+    }
+    force_sum += -sim.box_force(0).x();
+    ++in_interval;
+    const double u = sim.boxes()[0].centre.x() - x0;
+    if (k % record_every == 0 || k == total) {
+      r.curve.push_back({u, force_sum / in_interval, sim.boxes()[0].centre.z() - z0, sim.time()});
+      force_sum = 0.0;
+      in_interval = 0;
+      progress.update(u * 1e3, fmt::format("u = {:.3f} mm  F = {:.3f} kN", u * 1e3, r.curve.back().force * 1e-3));
+    }
+    if (k % network_every == 0) r.network.push_back(sample_network(sim, c, u, run.velocity, mean_size, volume));
+    if (frames && (k % frame_every == 0 || k == total)) frames->write_frame(sim);
+  }
+  } catch (const dem::StabilityError& e) {
+    r.status = "unstable";
+    r.message = e.what();
+    if (frames && sim.last_good_state()) frames->write_snapshot(sim, *sim.last_good_state(), "last good state");
+  }
+  progress.finish();
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.steps = std::min(k, total);
+
+  for (const auto& s : r.curve)
+    if (s.force > r.peak_force) r.peak_force = s.force, r.u_at_peak = s.u;
+  r.final_heave = r.curve.back().heave;
+  for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
+  r.end_contacts = sim.contacts();
+  std::vector<double> magnitudes;
+  for (const auto& k : r.end_contacts) magnitudes.push_back(k.force.norm());
+  double sum = 0.0;
+  for (double m : magnitudes) sum += m, r.max_contact_force = std::max(r.max_contact_force, m);
+  r.mean_contact_force = magnitudes.empty() ? 0.0 : sum / magnitudes.size();
+  r.contact_force_q999 = nearest_rank_quantile(magnitudes, 0.999);
+  r.end_position = sim.bodies().position;
+  for (std::size_t b = 0; b < r.end_position.size(); ++b)
+    r.displacement.push_back(nearest_image(r.end_position[b] - r.start_position[b], sim.domain()));
+  return r;
+}
+
+}  // namespace mfdem::railway

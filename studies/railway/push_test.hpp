@@ -1,0 +1,77 @@
+#pragma once
+// The lateral push test of a prepared bed (definitions in ../shared/design.md):
+// - the sleeper is driven along +x at `velocity`, held along y, free vertically under its own
+//   weight, never rotating, until it has moved `distance` (u_end);
+// - lateral force F(u) = minus the x component of the sum of the stones' contact forces on the
+//   sleeper; each F(u) sample is the mean over the record interval ending at u (the per-step
+//   force carries the rattle of single contacts);
+// - peak lateral force = max F(u) over the samples, u in [0, u_end];
+// - maximum particle contact force = max |f| over stone-stone contacts at u_end, with its
+//   99.9 % quantile (nearest rank);
+// - inertial number I = gamma_dot d / sqrt(p / rho): gamma_dot = velocity / sleeper height (the
+//   passive wedge in front of the sleeper is about as deep as the sleeper), d the mean sieve
+//   size, rho the stone density, p the mean stress of the stone contacts over the bed,
+//   p = sum_c f_c . l_c / (3 V) (l_c the branch vector between the stones' centres, V the
+//   bed's volume). I << 1e-3 is the quasi-static regime (GDR MiDi 2004).
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dem/simulation.hpp"
+#include "studies/railway/packing.hpp"
+
+namespace mfdem::railway {
+
+struct ForceSample {
+  double u = 0.0;       // sleeper displacement, m
+  double force = 0.0;   // F(u), N
+  double heave = 0.0;   // sleeper rise since the start, m
+  double time = 0.0;    // s since the push began
+};
+
+struct NetworkSample {
+  double u = 0.0;
+  double mean_stress = 0.0;      // p, Pa
+  double inertial_number = 0.0;
+  double coordination = 0.0;     // stone-stone contacts per stone x 2
+};
+
+struct PushResult {
+  std::string status = "finished";        // or "unstable": the results end at the last good state
+  std::string message;
+  double velocity = 0.0, distance = 0.0;  // m/s, m
+  std::vector<ForceSample> curve;
+  std::vector<NetworkSample> network;
+  double peak_force = 0.0, u_at_peak = 0.0;
+  double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
+  double max_inertial_number = 0.0;
+  double final_heave = 0.0;
+  double time_step = 0.0, wall_seconds = 0.0;
+  std::int64_t steps = 0, stones = 0, elements = 0;
+  std::vector<dem::ContactRecord> end_contacts;      // stone-stone, at u_end
+  std::vector<dem::Vec3> start_position, end_position;  // stone centres
+  std::vector<dem::Vec3> displacement;               // end - start (periodic images resolved)
+  std::vector<std::int64_t> stone_id;
+};
+
+struct PushRun {
+  double velocity = 0.0;   // m/s
+  double distance = 0.0;   // m
+  bool quiet = false;
+  std::optional<std::filesystem::path> state_file;  // frames at the start, every mm, the end
+};
+
+// Pushes the sleeper of `packing`, with the materials, guards and push settings of `config`
+// (the packing's own config, or another one for a variant). When a guard trips, the result
+// holds everything up to that point, status "unstable" and the guard's message.
+PushResult run_push(const Packing& packing, const PushStudyConfig& config, const PushRun& run);
+
+// The x-z profile's area times the section length, minus the sleeper: V of the mean stress.
+double bed_volume(const SectionGeometry& g);
+
+// Nearest-rank quantile q in (0, 1] of the values (sorted in place).
+double nearest_rank_quantile(std::vector<double>& values, double q);
+
+}  // namespace mfdem::railway

@@ -1,0 +1,50 @@
+#include "studies/railway/stage_runner.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::railway {
+
+StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
+                              double energy_scale, double max_time, bool quiet, dem::StateFile* frames, double frame_interval,
+                              double check_interval) {
+  StageReport r;
+  r.name = name;
+  const auto start = std::chrono::steady_clock::now();
+  const double t0 = sim.time();
+  const std::int64_t s0 = sim.step_count();
+  const std::int64_t every = std::max<std::int64_t>(1, std::llround(check_interval / sim.time_step()));
+  const std::int64_t limit = std::llround(max_time / sim.time_step());
+  scene::Progress progress(fmt::format("{:<10}", name), max_time, quiet);
+  const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(frame_interval / sim.time_step()));
+  if (frames) frames->write_frame(sim);
+  int below = 0;
+  for (std::int64_t k = 1; k <= limit; ++k) {
+    sim.step();
+    if (frames && k % frame_every == 0) frames->write_frame(sim);
+    if (k % every != 0) continue;
+    r.unbalanced_force_ratio = sim.unbalanced_force_ratio();
+    const double kinetic = sim.energy().kinetic() / energy_scale;
+    below = r.unbalanced_force_ratio < ratio_target && kinetic < ratio_target ? below + 1 : 0;
+    progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
+                                                 r.unbalanced_force_ratio, kinetic, ratio_target));
+    if (below >= 2) {
+      r.settled = true;
+      break;
+    }
+  }
+  progress.finish();
+  if (frames) frames->write_frame(sim);
+  r.unbalanced_force_ratio = sim.unbalanced_force_ratio();
+  r.simulated_time = sim.time() - t0;
+  r.steps = sim.step_count() - s0;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace mfdem::railway

@@ -1,0 +1,32 @@
+#pragma once
+// Runs one stage of bed preparation until the bed is in equilibrium, or a time limit. In
+// equilibrium at two consecutive checks: the mean unbalanced force ratio
+// (dem::Simulation::unbalanced_force_ratio, PFC's criterion) is below the target, and so is the
+// kinetic energy over `energy_scale` (the stones' weight times their mean size: the work of
+// lifting the bed by one stone). The second condition stops a false "settled" while stones
+// still fall: during impacts the contact forces are large and the ratio small. Checks fall on fixed step counts, so a stage ends on the
+// same step whatever the thread count.
+#include <cstdint>
+#include <string>
+
+#include "dem/simulation.hpp"
+#include "dem/state_file.hpp"
+
+namespace mfdem::railway {
+
+struct StageReport {
+  std::string name;
+  double simulated_time = 0.0;     // s
+  std::int64_t steps = 0;
+  double unbalanced_force_ratio = 0.0;
+  bool settled = false;            // false: stopped by the time limit
+  double wall_seconds = 0.0;
+};
+
+// `check_interval` in simulated seconds. With `frames`, writes the state every `frame_interval`
+// simulated seconds and at the end (for a look at the preparation in ParaView).
+StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
+                              double energy_scale, double max_time, bool quiet, dem::StateFile* frames = nullptr,
+                              double frame_interval = 0.02, double check_interval = 2e-3);
+
+}  // namespace mfdem::railway

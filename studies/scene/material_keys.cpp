@@ -1,0 +1,39 @@
+#include "studies/scene/material_keys.hpp"
+
+namespace mfdem::scene {
+namespace {
+
+using config::Range;
+const Range kPositive{.min = 0.0, .min_exclusive = true};
+const Range kNonNegative{.min = 0.0};
+const Range kFraction{.min = 0.0, .max = 1.0};
+
+}  // namespace
+
+dem::Material read_material(const config::Section& s, const std::string& name) {
+  dem::Material m;
+  m.name = name;
+  m.density = s.number("density", kPositive, "density in kg/m^3");
+  m.normal_stiffness = s.number("normal_stiffness", kPositive, "normal stiffness kn in N/m");
+  m.shear_stiffness = s.number("shear_stiffness", kPositive, "shear stiffness ks in N/m");
+  m.friction = s.number("friction", kNonNegative, "friction coefficient");
+  m.rolling_friction = s.number_or("rolling_friction", 0.0, kNonNegative,
+                                   "rolling friction coefficient mu_r");
+  m.damping_ratio = s.number_or("damping_ratio", 0.0, kFraction,
+                                "viscous damping ratio (fraction of critical)");
+  m.local_damping = s.number_or("local_damping", 0.0, {.min = 0.0, .max = 1.0, .max_exclusive = true},
+                                "local damping coefficient alpha");
+  return m;
+}
+
+void read_guards(const config::Section& s, dem::GuardSettings& g) {
+  g.max_overlap_fraction = s.number_or("max_overlap_fraction", g.max_overlap_fraction,
+                                       {.min = 0.0, .max = 1.0, .min_exclusive = true},
+                                       "largest overlap as a fraction of the radius");
+  g.check_interval = static_cast<int>(s.integer_or("check_interval", g.check_interval, {.min = 1},
+                                                   "steps between energy checks"));
+  g.energy_growth = s.number_or("energy_growth", g.energy_growth, kPositive,
+                                "allowed energy growth as a fraction of the energy scale");
+}
+
+}  // namespace mfdem::scene

@@ -1,0 +1,184 @@
+// The single-sleeper push test end to end on a tiny bed of balls: reproducibility (the same seed
+// gives the same bits on 1 and 2 threads; a packing saved and loaded pushes bitwise as the one
+// in memory), the shape of F(u), and the packing file's round trip. Tolerances: none (memcmp)
+// for the bitwise claims; the physical checks are stated where they are made.
+//
+// The bed: 25 mm balls (every stone the equal-volume ball of a 25 mm stone, mu_r = 0.3) in a 0.2 m periodic
+// section under a 0.3 m x 0.06 m x 0.05 m sleeper; about 1,600 stones, so the body loops span
+// two chunks of 1,024 and the two threads really split the work.
+#include <catch2/catch.hpp>
+#include <omp.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "studies/config/config_error.hpp"
+#include "studies/railway/bed_preparation.hpp"
+#include "studies/railway/push_test.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using namespace mfdem;
+
+namespace {
+
+const char* const kTinyBed = R"(
+name = "tiny"
+seed = 7
+[section]
+sleeper_length = 0.30
+sleeper_width = 0.06
+sleeper_height = 0.05
+sleeper_mass = 2.5
+section_length = 0.20
+depth_under_sleeper = 0.08
+shoulder_width = 0.04
+[stones]
+representation = "ball"
+size = 0.025
+[materials.ballast]          # Table 1 with rolling resistance, so the balls' shoulders stand
+density = 2800.0
+normal_stiffness = 2e7
+shear_stiffness = 2e7
+friction = 0.5
+rolling_friction = 0.3
+damping_ratio = 0.2
+[preparation]
+deposition_local_damping = 0.2
+max_deposition_time = 0.25
+max_settling_time = 0.1
+[push]
+distance = 1e-3
+record_interval = 2e-5
+network_samples = 5
+)";
+
+railway::PushStudyConfig tiny_config() { return railway::parse_push_config(kTinyBed, "tiny.toml"); }
+
+railway::Packing pack_with(int threads) {
+  const int previous = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  railway::PreparationReport report;
+  railway::Packing p = railway::prepare_bed(tiny_config(), true, report);
+  omp_set_num_threads(previous);
+  return p;
+}
+
+railway::PushResult push_with(const railway::Packing& p, int threads) {
+  const int previous = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  railway::PushRun run;
+  run.velocity = p.config.push.velocity;
+  run.distance = p.config.push.distance;
+  run.quiet = true;
+  railway::PushResult r = railway::run_push(p, p.config, run);
+  omp_set_num_threads(previous);
+  return r;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+std::vector<dem::Vec3> positions(const railway::Packing& p) {
+  std::vector<dem::Vec3> out;
+  for (const auto& b : p.bodies) out.push_back(b.position);
+  return out;
+}
+
+std::vector<double> forces(const railway::PushResult& r) {
+  std::vector<double> out;
+  for (const auto& s : r.curve) out.push_back(s.force), out.push_back(s.heave);
+  return out;
+}
+
+// One packing shared by the tests that only read it (preparation is the expensive part).
+const railway::Packing& shared_packing() {
+  static const railway::Packing p = pack_with(1);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("the same seed gives bitwise the same packing and push on 1 and 2 threads", "[railway][threads]") {
+  const railway::Packing& one = shared_packing();
+  const railway::Packing two = pack_with(2);
+  REQUIRE(one.bodies.size() > 1024);  // two chunks of bodies
+  REQUIRE(same_bits(positions(one), positions(two)));
+  REQUIRE(one.sleeper.centre == two.sleeper.centre);
+  const auto push_one = push_with(one, 1);
+  const auto push_two = push_with(two, 2);
+  REQUIRE(push_one.status == "finished");
+  REQUIRE(same_bits(forces(push_one), forces(push_two)));
+  REQUIRE(same_bits(push_one.end_position, push_two.end_position));
+}
+
+TEST_CASE("a saved and reloaded packing is the same packing and pushes bitwise the same", "[railway][io]") {
+  const railway::Packing& original = shared_packing();
+  const test::TempDir dir;
+  const auto file = dir.path() / "packing.h5";
+  railway::save_packing(file, original);
+  const railway::Packing loaded = railway::load_packing(file);
+  REQUIRE(loaded.bodies.size() == original.bodies.size());
+  REQUIRE(same_bits(positions(loaded), positions(original)));
+  for (std::size_t b = 0; b < loaded.bodies.size(); ++b) {
+    REQUIRE(loaded.bodies[b].mass == original.bodies[b].mass);
+    REQUIRE(loaded.bodies[b].velocity == original.bodies[b].velocity);
+    REQUIRE(loaded.bodies[b].orientation.coeffs() == original.bodies[b].orientation.coeffs());
+    REQUIRE(loaded.stones[b].id == original.stones[b].id);
+    REQUIRE(loaded.stones[b].size == original.stones[b].size);
+  }
+  REQUIRE(loaded.sleeper.centre == original.sleeper.centre);
+  REQUIRE(loaded.sleeper.mass == original.sleeper.mass);
+  REQUIRE(loaded.config.text == original.config.text);
+  REQUIRE(loaded.config.seed == original.config.seed);
+  REQUIRE(same_bits(forces(push_with(loaded, 1)), forces(push_with(original, 1))));
+}
+
+TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
+  const railway::Packing& p = shared_packing();
+  const railway::PushResult r = push_with(p, 1);
+  REQUIRE(r.status == "finished");
+  REQUIRE(r.curve.size() > 40);
+  REQUIRE(r.curve.front().u == 0.0);
+  INFO("F(0) = " << r.curve.front().force << " N, peak " << r.peak_force << " N at u = " << r.u_at_peak << " m");
+  // At rest on a settled bed the sleeper carries no lateral load: |F(0)| is the residue of the
+  // settling (unbalanced force ratio 1e-3), below 5 % of the peak.
+  CHECK(std::abs(r.curve.front().force) < 0.05 * r.peak_force);
+  // It rises: the mean over the last half of the push is ten times |F(0)| and the peak
+  // lies beyond the first tenth of the push.
+  double late = 0.0;
+  int n = 0;
+  for (const auto& s : r.curve)
+    if (s.u > 0.5 * r.distance) late += s.force, ++n;
+  CHECK(late / n > 10.0 * std::abs(r.curve.front().force));
+  CHECK(r.u_at_peak > 0.1 * r.distance);
+  // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
+  CHECK(r.mean_contact_force < r.contact_force_q999);
+  CHECK(r.contact_force_q999 <= r.max_contact_force);
+  // Moving at u_end / velocity, the sleeper is where the drive put it.
+  CHECK(r.curve.back().u == Approx(r.distance).epsilon(1e-9));
+}
+
+TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
+  const auto refused = [](const std::string& replace, const std::string& by) {
+    std::string text = kTinyBed;
+    text.replace(text.find(replace), replace.size(), by);
+    return railway::parse_push_config(text, "tiny.toml");
+  };
+  CHECK_THROWS_WITH(refused("depth_under_sleeper = 0.08", "depth_under_sleeper = -0.08"),
+                    Catch::Contains("tiny.toml") && Catch::Contains("depth_under_sleeper") &&
+                        Catch::Contains("-0.08") && Catch::Contains("> 0"));
+  CHECK_THROWS_WITH(refused("representation = \"ball\"", "representation = \"cube\""),
+                    Catch::Contains("representation") && Catch::Contains("clump"));
+  CHECK_THROWS_WITH(refused("[push]", "[push]\nvelocty = 0.1"), Catch::Contains("velocity"));
+  // Geometry that parses but cannot be built is refused when the bed is prepared.
+  railway::PreparationReport report;
+  auto narrow = tiny_config();
+  narrow.geometry.shoulder_width = 0.01;  // narrower than one 25 mm stone
+  CHECK_THROWS_WITH(railway::prepare_bed(narrow, true, report),
+                    Catch::Contains("shoulder_width") && Catch::Contains("0.01"));
+  auto wide = tiny_config();
+  wide.geometry.sleeper_width = 0.25;  // wider than the 0.2 m section: outside the box
+  CHECK_THROWS_WITH(railway::prepare_bed(wide, true, report), Catch::Contains("sleeper_width"));
+}
