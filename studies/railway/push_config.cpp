@@ -70,6 +70,8 @@ void read_push(const Section& s, PushSettings& p) {
   p.distance = s.number_or("distance", p.distance, kPositive, "push distance u_end in m");
   p.record_interval = s.number_or("record_interval", p.record_interval, kPositive,
                                   "sleeper displacement between F(u) samples in m");
+  p.ramp_distance = s.number_or("ramp_distance", p.ramp_distance, kNonNegative,
+                                "sleeper displacement over which the push speeds up, in m");
   p.local_damping = s.number_or("local_damping", p.local_damping, kBelowOne,
                                 "local damping alpha of the stones while pushing");
   p.network_samples = static_cast<int>(s.integer_or("network_samples", p.network_samples, {.min = 1},
@@ -84,6 +86,7 @@ dem::Material table1_material(const std::string& name, double stiffness, double 
   m.normal_stiffness = stiffness;
   m.shear_stiffness = stiffness;
   m.friction = 0.5;
+  m.damping_ratio = 0.2;
   return m;
 }
 
@@ -101,10 +104,11 @@ PushStudyConfig read(const Section& root, const std::string& text, const std::fi
   if (auto s = root.optional_section("preparation")) read_preparation(*s, c.preparation);
   if (auto s = root.optional_section("push")) read_push(*s, c.push);
   if (auto s = root.optional_section("guards")) scene::read_guards(*s, c.guards);
-  // Table 1 of the paper unless the config says otherwise. The sleeper's density only sets
-  // nothing (its mass is sleeper_mass); the floor is as stiff as the sleeper.
+  // Table 1 of the paper unless the config says otherwise. The sleeper's density sets nothing
+  // (its mass is sleeper_mass); the floor is as stiff as the sleeper.
+  // Table 1 gives no damping: 0.2 of critical on every contact (a pair takes the smaller ratio,
+  // so the sleeper and floor need it too, or the sleeper rings on the bed undamped).
   c.ballast = table1_material("ballast", 2e7, 2800.0);
-  c.ballast.damping_ratio = 0.2;
   c.sleeper = table1_material("sleeper", 5e9, 2400.0);
   c.floor = table1_material("floor", 5e9, 2400.0);
   if (auto m = root.optional_section("materials")) {

@@ -37,6 +37,7 @@ struct PushSettings {
   double velocity = 0.05;          // m/s, lateral (+x) sleeper speed
   double distance = 5e-3;          // m, u_end
   double record_interval = 1e-5;   // m of sleeper displacement between F(u) samples
+  double ramp_distance = 1e-4;     // m over which the sleeper speeds up from rest (no impact start)
   double local_damping = 0.7;      // alpha of the stones during the push (quasi-static stage)
   int network_samples = 50;        // inertial-number and stress samples during the push
 };

@@ -60,7 +60,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   stage.stone_friction = c.ballast.friction;
   stage.stone_local_damping = c.push.local_damping;
   dem::RigidBox sleeper = packing.sleeper;
-  sleeper.velocity = dem::Vec3(run.velocity, 0.0, 0.0);
+  sleeper.velocity = dem::Vec3::Zero();  // speeds up over the ramp (below)
   sleeper.driven = {true, true, false};
   stage.sleeper = sleeper;
   dem::Simulation sim = make_section_simulation(c, packing.domain, packing.bodies, stage);
@@ -82,7 +82,15 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   r.start_position = sim.bodies().position;
 
   const double dt = sim.time_step();
-  const std::int64_t total = std::llround(run.distance / (run.velocity * dt));
+  // The speed rises linearly over ramp_time (covering ramp_distance), then stays: an abrupt start
+  // would hit the stones in front at full speed, a force peak that no quasi-static test has.
+  const double ramp_distance = std::min(c.push.ramp_distance, run.distance);
+  const double ramp_time = 2.0 * ramp_distance / run.velocity;
+  const std::int64_t total = std::llround((run.distance + 0.5 * run.velocity * ramp_time) / (run.velocity * dt));
+  const auto drive_speed = [&](std::int64_t step) {
+    const double t = (static_cast<double>(step) + 0.5) * dt;  // mid-step
+    return ramp_time > 0.0 ? run.velocity * std::min(1.0, t / ramp_time) : run.velocity;
+  };
   const std::int64_t record_every = std::max<std::int64_t>(1, std::llround(c.push.record_interval / (run.velocity * dt)));
   const std::int64_t network_every = std::max<std::int64_t>(1, total / c.push.network_samples);
   const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(1e-3 / (run.velocity * dt)));
@@ -102,6 +110,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   std::int64_t k = 1;
   try {
   for (; k <= total; ++k) {
+    sim.mutable_boxes()[0].velocity.x() = drive_speed(k - 1);
     sim.step();
     if (k == kEstimateSteps && !run.quiet) {
       const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;

@@ -1,7 +1,8 @@
 #pragma once
 // The lateral push test of a prepared bed (definitions in ../shared/design.md):
-// - the sleeper is driven along +x at `velocity`, held along y, free vertically under its own
-//   weight, never rotating, until it has moved `distance` (u_end);
+// - the sleeper is driven along +x at `velocity` (reached after a linear speed-up over
+//   ramp_distance, 0.1 mm by default), held along y, free vertically under its own weight, never
+//   rotating, until it has moved `distance` (u_end);
 // - lateral force F(u) = minus the x component of the sum of the stones' contact forces on the
 //   sleeper; each F(u) sample is the mean over the record interval ending at u (the per-step
 //   force carries the rattle of single contacts);

@@ -48,6 +48,9 @@ void validate(const SectionGeometry& g, double largest_stone) {
     need(g.section_length >= 3.0 * largest_stone,
          fmt::format("section_length = {} m: a periodic section must be at least three stones ({} m) long",
                      g.section_length, 3.0 * largest_stone));
+  need(g.section_length - g.sleeper_width >= largest_stone,
+       fmt::format("sleeper_width = {} m: the crib between sleepers (section_length - sleeper_width = {} m) "
+                   "must hold a stone ({} m)", g.sleeper_width, g.section_length - g.sleeper_width, largest_stone));
 }
 
 }  // namespace mfdem::railway

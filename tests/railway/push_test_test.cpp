@@ -156,8 +156,9 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
   CHECK(r.mean_contact_force < r.contact_force_q999);
   CHECK(r.contact_force_q999 <= r.max_contact_force);
-  // Moving at u_end / velocity, the sleeper is where the drive put it.
-  CHECK(r.curve.back().u == Approx(r.distance).epsilon(1e-9));
+  // The drive (a speed-up over 0.1 mm, then the set velocity) ends within one step's travel of
+  // u_end, and the sleeper is where the drive put it.
+  CHECK(std::abs(r.curve.back().u - r.distance) <= r.velocity * r.time_step);
 }
 
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {

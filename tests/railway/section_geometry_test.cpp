@@ -27,6 +27,10 @@ TEST_CASE("bad section geometry is refused with the parameter, its value and the
   const double stone = 0.063;
   SectionGeometry g;
   CHECK_NOTHROW(validate(g, stone));
+  SECTION("a crib narrower than a stone") {
+    g.sleeper_width = 0.56;  // 0.04 m between sleepers 0.6 m apart
+    CHECK_THROWS_WITH(validate(g, stone), Catch::Contains("crib") && Catch::Contains("0.56"));
+  }
   SECTION("negative depth") {
     g.depth_under_sleeper = -0.1;
     CHECK_THROWS_WITH(validate(g, stone), Catch::Contains("depth_under_sleeper = -0.1 m") &&
