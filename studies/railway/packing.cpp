@@ -114,6 +114,8 @@ Packing load_packing(const std::filesystem::path& path) {
     p.sleeper.centre = read_vec3_attribute(g, "sleeper_centre");
     p.sleeper.half_extent = read_vec3_attribute(g, "sleeper_half_extent");
     p.sleeper.mass = read_attribute(g, "sleeper_mass");
+    p.sleeper.material = kSleeper;
+    p.sleeper.driven = {true, true, false};
     const auto ids = dem::h5::read_ints(g, "stone_id");
     const auto templates = dem::h5::read_ints(g, "template");
     const auto sizes = dem::h5::read_doubles(g, "size");
@@ -126,10 +128,10 @@ Packing load_packing(const std::filesystem::path& path) {
   H5Fclose(file);
   const int frames = dem::count_frames(path);
   const dem::StateFrame frame = dem::read_frame(path, frames - 1);
-  // The packing's materials are ballast, sleeper, floor in that order (bed_preparation.cpp).
+  // The packing's materials are ballast, sleeper, floor in that order (section_simulation.hpp).
   std::vector<int> material_of;
   for (const auto& name : frame.material_names)
-    material_of.push_back(name == "ballast" ? 0 : name == "sleeper" ? 1 : 2);
+    material_of.push_back(name == "ballast" ? kBallast : name == "sleeper" ? kSleeper : kFloor);
   p.bodies = dem::bodies_of(frame, material_of);
   if (p.bodies.size() != p.stones.size())
     throw std::runtime_error(fmt::format("{}: {} bodies but {} stone records", path.string(),

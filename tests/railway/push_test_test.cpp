@@ -130,6 +130,11 @@ TEST_CASE("a saved and reloaded packing is the same packing and pushes bitwise t
   }
   REQUIRE(loaded.sleeper.centre == original.sleeper.centre);
   REQUIRE(loaded.sleeper.mass == original.sleeper.mass);
+  REQUIRE(loaded.sleeper.half_extent == original.sleeper.half_extent);
+  REQUIRE(loaded.sleeper.material == original.sleeper.material);
+  REQUIRE(loaded.domain.min == original.domain.min);
+  REQUIRE(loaded.domain.max == original.domain.max);
+  REQUIRE(loaded.domain.periodic == original.domain.periodic);
   REQUIRE(loaded.config.text == original.config.text);
   REQUIRE(loaded.config.seed == original.config.seed);
   REQUIRE(same_bits(forces(push_with(loaded, 1)), forces(push_with(original, 1))));
