@@ -188,3 +188,22 @@ TEST_CASE("a study config with bad values is refused naming file, key and value"
   wide.geometry.sleeper_width = 0.25;  // wider than the 0.2 m section: outside the box
   CHECK_THROWS_WITH(railway::prepare_bed(wide, true, report), Catch::Contains("sleeper_width"));
 }
+
+TEST_CASE("the shipped presets load, with their documented sizes", "[railway][config]") {
+  // Reference: studies/presets/*.toml and README.md there; mini is the demo's miniature, the
+  // other two the design notes' full-size section.
+  const auto mini = railway::load_push_config("mini");
+  CHECK(mini.name == "mini");
+  CHECK(mini.geometry.sleeper_length == 0.30);
+  CHECK(mini.stones.representation == "clump");
+  for (const char* name : {"standard", "paper"}) {
+    const auto full = railway::load_push_config(name);
+    CHECK(full.geometry.sleeper_length == 2.6);
+    CHECK(full.geometry.sleeper_mass == 380.0);
+    CHECK(full.geometry.depth_under_sleeper == 0.30);
+    CHECK(full.ballast.normal_stiffness == 2e7);  // Table 1
+    CHECK(full.sleeper.normal_stiffness == 5e9);
+  }
+  CHECK_FALSE(railway::load_push_config("paper").geometry.periodic_along_track);  // the paper's walls
+  CHECK_THROWS_WITH(railway::load_push_config("maxi"), Catch::Contains("mini, standard and paper"));
+}
