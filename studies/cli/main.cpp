@@ -1,4 +1,5 @@
 // The `mfdem` executable; everything it does lives in studies/cli/ so that tests can reach it.
+#include <hdf5.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -15,5 +16,8 @@ int main(int argc, char** argv) {
     setenv("OMP_WAIT_POLICY", "passive", 1);
     execv("/proc/self/exe", argv);  // returns only on failure: then carry on as we are
   }
+  // mfdem checks every HDF5 call and says what failed in its own words; HDF5's stack dumps would
+  // bury that message.
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   return mfdem::cli::run_cli(argc, argv, std::cout, std::cerr);
 }

@@ -92,6 +92,9 @@ void save_packing(const std::filesystem::path& path, const Packing& p) {
 }
 
 Packing load_packing(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path))
+    throw std::runtime_error(fmt::format("{}: no such file (expected a packing.h5 written by `mfdem pack`, "
+                                         "or the directory holding it)", path.string()));
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error(fmt::format("{}: cannot open it as an HDF5 file", path.string()));
   Packing p;
