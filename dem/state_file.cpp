@@ -74,6 +74,7 @@ void StateFile::write_snapshot(const Simulation& sim, const Simulation::Snapshot
   write_vec3s(g, "velocity", s.velocity);
   write_vec3s(g, "angular_velocity", s.angular_velocity);
   const Bodies& bodies = sim.bodies();
+  if (label.empty()) write_vec3s(g, "unbalanced_force", bodies.unbalanced_force);
   const Elements& elements = sim.elements();
   std::vector<double> quat(bodies.size() * 4);
   for (Index b = 0; b < bodies.size(); ++b) {

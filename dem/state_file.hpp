@@ -13,6 +13,8 @@
 //   /frames/NNNNNN          attrs: time (s), step
 //       position, velocity, angular_velocity          [bodies, 3]
 //       orientation                                    [bodies, 4]  (w, x, y, z)
+//       unbalanced_force                               [bodies, 3]  net force before local
+//                                                      damping, N (not in a "last good state")
 //       element_position, element_velocity             [elements, 3] (for ParaView)
 //       contact_body_a, contact_body_b                 [contacts]
 //       contact_point, contact_force                   [contacts, 3] (force on body b, N)
