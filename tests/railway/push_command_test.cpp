@@ -1,6 +1,13 @@
 // `mfdem pack` and `mfdem push` refuse bad input with a message naming it (exit status 1 for a
 // failure while running, 2 for a bad command line), before any simulation starts.
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/railway/tiny_bed.hpp"
 
 #include "tests/support/run_mfdem.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -21,4 +28,31 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
   const auto velocity = run_mfdem({"push", out, "--velocity", "-5"});
   CHECK(velocity.status == 2);
   CHECK_THAT(velocity.err, Catch::Contains("--velocity"));
+}
+
+TEST_CASE("pack then push --check-rate writes both pushes and reports the change", "[railway][cli]") {
+  // End to end through the command line on the tiny bed: the half-velocity push is a second run
+  // of the same packing at exactly half the velocity, and the reported change is
+  // (peak_half - peak) / peak of the two summaries (printed to 0.01 %).
+  const mfdem::test::TempDir dir;
+  const auto config = dir.path() / "tiny.toml";
+  std::ofstream(config) << mfdem::test::kTinyBed;
+  const std::string bed = (dir.path() / "bed").string();
+  const auto pack = run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"});
+  REQUIRE(pack.status == 0);
+  CHECK_THAT(pack.out, Catch::Contains("Packed bed: tiny (seed 7)"));
+  const std::string push_dir = bed + "/push";
+  const auto push = run_mfdem({"push", bed, "--check-rate", "--distance", "0.5", "--out", push_dir, "-q", "--threads", "1"});
+  REQUIRE(push.status == 0);
+  const auto full = toml::parse_file(push_dir + "/push_summary.toml");
+  const auto half = toml::parse_file(push_dir + "/half_velocity/push_summary.toml");
+  const double v = full["velocity"].value_or(0.0), v_half = half["velocity"].value_or(0.0);
+  CHECK(v == 0.05);
+  CHECK(v_half == 0.5 * v);
+  CHECK(full["distance"].value_or(0.0) == 5e-4);
+  const double peak = full["peak_force"].value_or(0.0), peak_half = half["peak_force"].value_or(0.0);
+  REQUIRE(peak > 0.0);
+  CHECK_THAT(push.out, Catch::Contains(fmt::format("{:+.2f} %", 100.0 * (peak_half - peak) / peak)));
+  CHECK(std::filesystem::exists(push_dir + "/push.h5"));
+  CHECK(std::filesystem::exists(push_dir + "/push_state.xdmf"));
 }

@@ -15,44 +15,16 @@
 #include "studies/config/config_error.hpp"
 #include "studies/railway/bed_preparation.hpp"
 #include "studies/railway/push_test.hpp"
+#include "tests/railway/tiny_bed.hpp"
 #include "tests/support/temp_dir.hpp"
 
 using namespace mfdem;
 
 namespace {
 
-const char* const kTinyBed = R"(
-name = "tiny"
-seed = 7
-[section]
-sleeper_length = 0.30
-sleeper_width = 0.06
-sleeper_height = 0.05
-sleeper_mass = 2.5
-section_length = 0.20
-depth_under_sleeper = 0.08
-shoulder_width = 0.04
-[stones]
-representation = "ball"
-size = 0.025
-[materials.ballast]          # Table 1 with rolling resistance, so the balls' shoulders stand
-density = 2800.0
-normal_stiffness = 2e7
-shear_stiffness = 2e7
-friction = 0.5
-rolling_friction = 0.3
-damping_ratio = 0.2
-[preparation]
-deposition_local_damping = 0.2
-max_deposition_time = 0.25
-max_settling_time = 0.1
-[push]
-distance = 1e-3
-record_interval = 2e-5
-network_samples = 5
-)";
 
-railway::PushStudyConfig tiny_config() { return railway::parse_push_config(kTinyBed, "tiny.toml"); }
+
+railway::PushStudyConfig tiny_config() { return railway::parse_push_config(mfdem::test::kTinyBed, "tiny.toml"); }
 
 railway::Packing pack_with(int threads) {
   const int previous = omp_get_max_threads();
@@ -168,7 +140,7 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
 
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
   const auto refused = [](const std::string& replace, const std::string& by) {
-    std::string text = kTinyBed;
+    std::string text = mfdem::test::kTinyBed;
     text.replace(text.find(replace), replace.size(), by);
     return railway::parse_push_config(text, "tiny.toml");
   };
