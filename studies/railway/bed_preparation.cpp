@@ -1,146 +1,19 @@
 #include "studies/railway/bed_preparation.hpp"
 
 #include <fmt/format.h>
-#include <gsl/gsl_rng.h>
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
 
-#include "fidelity/grading.hpp"
-#include "fidelity/shape_library.hpp"
-#include "fidelity/stone_bodies.hpp"
 #include "studies/railway/section_simulation.hpp"
+#include "studies/railway/stone_columns.hpp"
 
 namespace mfdem::railway {
 namespace {
 
 constexpr double kGravity = 9.81;          // m/s^2, the solver's default gravity
-constexpr double kUpperSizePassing = 97.0;  // % passing at the upper sieve size D
-
-struct DrawnStone {
-  StoneRecord record;
-  dem::ClumpSpec body;  // at the origin
-  double reach = 0.0;   // bounding radius about the centre of mass, m
-};
-
-class StoneFactory {
- public:
-  explicit StoneFactory(const PushStudyConfig& c)
-      : config_(c),
-        library_(c.stones.library.empty() ? fidelity::standard_library() : fidelity::load_library(c.stones.library)),
-        sampler_(c.seed, static_cast<int>(library_.templates.size())) {}
-
-  DrawnStone draw(std::int64_t k) const {
-    fidelity::StoneDraw d = sampler_.draw(k);
-    if (config_.stones.fixed_size > 0.0) d.size = config_.stones.fixed_size;
-    const auto& shape = library_.templates[d.template_index];
-    DrawnStone s;
-    s.record = {k, d.template_index, d.size};
-    if (config_.stones.representation == "clump") {
-      s.body = fidelity::stone_as_clump(shape, d, config_.ballast.density, kBallast, dem::Vec3::Zero());
-      s.reach = fidelity::template_reach(shape) * d.size;
-    } else {
-      s.body = dem::sphere_body(fidelity::stone_as_ball(shape, d, kBallast, dem::Vec3::Zero()), config_.ballast.density);
-      s.reach = shape.equivalent_radius(d.size);
-    }
-    return s;
-  }
-
-  // The upper size D of the grading (63 mm for 31.5/63 ballast): the smallest sieve that passes
-  // at least 97 % by mass, as EN 13450 grades; the fixed size when there is one. The geometry
-  // checks count stones of this size (the 1-3 % oversize is left out).
-  double upper_size() const {
-    if (config_.stones.fixed_size > 0.0) return config_.stones.fixed_size;
-    for (const auto& p : sampler_.curve().points())
-      if (p.passing_percent >= kUpperSizePassing) return p.size_mm * 1e-3;
-    return sampler_.curve().largest_mm() * 1e-3;
-  }
-
-  // Mean solid volume of a stone, m^3, over the first `sample` draws.
-  double mean_volume(int sample) const {
-    double sum = 0.0;
-    for (int k = 0; k < sample; ++k) sum += draw(k).body.mass / config_.ballast.density;
-    return sum / sample;
-  }
-
- private:
-  const PushStudyConfig& config_;
-  fidelity::ShapeLibrary library_;
-  fidelity::StoneSampler sampler_;
-};
-
-// Step 2: columns on a grid over the container floor with the mean stone's footprint. Each stone
-// goes on top of its column, raised further where its bounding sphere would touch a stone of a
-// neighbouring column (large stones overhang their column), so no two stones touch at the start.
-std::vector<DrawnStone> place_in_columns(const PushStudyConfig& c, std::vector<DrawnStone> stones) {
-  const SectionGeometry& g = c.geometry;
-  double mean_reach = 0.0;
-  for (const auto& s : stones) mean_reach += s.reach;
-  mean_reach /= std::max<std::size_t>(1, stones.size());
-  const double pitch = 2.04 * mean_reach;
-  const double width = 2.0 * g.toe_half_width(), length = g.section_length;
-  const int nx = std::max(1, static_cast<int>(std::floor(width / pitch)));
-  const int ny = std::max(1, static_cast<int>(std::floor(length / pitch)));
-  const double dx = width / nx, dy = length / ny;
-  struct Placed {
-    dem::Vec3 x;
-    double reach;
-  };
-  std::vector<std::vector<Placed>> columns(static_cast<std::size_t>(nx) * ny);
-  std::vector<double> column_top(columns.size(), 0.0);
-  std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), gsl_rng_free);
-  gsl_rng_set(rng.get(), static_cast<unsigned long>(c.seed % 4294967291ULL) + 1);
-  const auto separation_y = [&](double a, double b) {
-    double d = a - b;
-    if (g.periodic_along_track) d -= length * std::round(d / length);
-    return d;
-  };
-  for (std::size_t k = 0; k < stones.size(); ++k) {
-    DrawnStone& s = stones[k];
-    const std::size_t column = k % columns.size();
-    const int i = static_cast<int>(column % nx), j = static_cast<int>(column / nx);
-    // A seeded sideways jitter within the room the stone leaves in its cell; never into a wall.
-    const double slack_x = std::max(0.0, 0.5 * dx - s.reach), slack_y = std::max(0.0, 0.5 * dy - s.reach);
-    double x = -0.5 * width + (i + 0.5) * dx + (2.0 * gsl_rng_uniform(rng.get()) - 1.0) * slack_x;
-    double y = (j + 0.5) * dy + (2.0 * gsl_rng_uniform(rng.get()) - 1.0) * slack_y;
-    const double clearance = 1.02 * s.reach;
-    x = std::clamp(x, -0.5 * width + clearance, 0.5 * width - clearance);
-    if (!g.periodic_along_track) y = std::clamp(y, clearance, length - clearance);
-    const double gap = 0.02 * s.reach;
-    double z = column_top[column] + gap + s.reach;
-    for (bool moved = true; moved;) {
-      moved = false;
-      for (int di = -2; di <= 2; ++di)
-        for (int dj = -2; dj <= 2; ++dj) {
-          const int ii = i + di;
-          int jj = j + dj;
-          if (ii < 0 || ii >= nx) continue;
-          if (g.periodic_along_track) jj = (jj % ny + ny) % ny;
-          else if (jj < 0 || jj >= ny) continue;
-          for (const Placed& o : columns[static_cast<std::size_t>(jj) * nx + ii]) {
-            const double reach = s.reach + o.reach + gap;
-            const double ex = x - o.x.x(), ey = separation_y(y, o.x.y()), ez = z - o.x.z();
-            const double flat2 = ex * ex + ey * ey;
-            if (flat2 + ez * ez >= reach * reach) continue;
-            z = o.x.z() + std::sqrt(std::max(0.0, reach * reach - flat2)) + 1e-9;  // just above it
-            moved = true;
-          }
-        }
-    }
-    s.body.position = dem::Vec3(x, y, z);
-    columns[column].push_back({s.body.position, s.reach});
-    column_top[column] = std::max(column_top[column], z + s.reach);
-  }
-  // A uniform collapse: each stone starts down at a speed proportional to its height, so the
-  // columns close up together instead of the top stones falling longest.
-  double top = 0.0;
-  for (const auto& s : stones) top = std::max(top, s.body.position.z());
-  for (auto& s : stones) s.body.velocity = dem::Vec3(0.0, 0.0, -c.preparation.drop_speed * s.body.position.z() / top);
-  return stones;
-}
-
 bool intersects_box(const dem::ClumpSpec& stone, const dem::RigidBox& box) {
   for (const auto& p : stone.pebbles) {
     const dem::Vec3 x = stone.position + stone.orientation.normalized() * p.offset;

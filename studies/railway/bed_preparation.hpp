@@ -5,20 +5,22 @@
 // 1. Stones. Draw stone k = 0, 1, ... from the shape library and the grading with its own seeded
 //    stream (fidelity::StoneSampler): template, sieve size, orientation. The count fills the
 //    container below up to the ballast top at the expected solid fraction, times `overfill`.
-// 2. Placement. Stones stand in vertical columns on a grid across the container (pitch: the
-//    largest stone's bounding diameter), each stacked on the one below by its own bounding
-//    sphere, with a seeded sideways jitter; no two stones touch at the start.
-// 3. Deposition (compaction). Between the floor and container walls at the shoulder toes, the
-//    stones fall from rest at `drop_speed` with the stone friction lowered to
-//    `deposition_friction` and local damping `local_damping`: low friction lets them find a
-//    dense arrangement, as the "reduced friction" compaction of PFC studies does. The stage
-//    ends when the mean unbalanced force ratio is below `equilibrium_ratio`.
+// 2. Placement (stone_columns.hpp). Stones stand in columns over the container floor, none
+//    touching, each starting down at `drop_speed` x its height / the highest stone's: the
+//    columns collapse together, quicker than a free fall from rest.
+// 3. Deposition (compaction). Between the floor and container walls at the shoulder toes, with
+//    the stone friction lowered to `deposition_friction` (a denser bed, as the "reduced
+//    friction" compaction of PFC studies) and local damping `deposition_local_damping` (0.2:
+//    PFC's 0.7 would make a stone fall at 0.3 g; without any, low-friction clumps keep
+//    bouncing on the surface). The stage ends when the bed is at rest to `deposition_ratio`
+//    (stage_runner.hpp) or at `max_deposition_time`.
 // 4. Trimming and sleeper placement. Stones whose centre lies above the design surface (crib
 //    and shoulder crest at the sleeper top, the shoulder slope beyond) or which intersect the
 //    sleeper's volume are removed; the container walls go; the sleeper box is placed with its
 //    base at depth_under_sleeper, held across and along the track and free vertically.
-// 5. Settling. With the design friction restored, the bed and the sleeper settle under gravity
-//    until the mean unbalanced force ratio is below `equilibrium_ratio` again.
+// 5. Settling. With the design friction restored and local damping `local_damping`, the bed and
+//    the sleeper settle under gravity until at rest to `equilibrium_ratio`, or at
+//    `max_settling_time` (then the report says "settled NO" and the command warns).
 #include <filesystem>
 #include <vector>
 

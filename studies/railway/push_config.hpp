@@ -25,7 +25,7 @@ struct StoneSettings {
 struct PreparationSettings {
   double deposition_friction = 0.1;   // stone-stone mu while depositing: a denser bed
   double drop_speed = 6.0;            // m/s downward of the highest stone as deposition starts
-  double deposition_local_damping = 0.0;  // alpha while depositing: local damping slows free fall
+  double deposition_local_damping = 0.2;  // alpha while depositing (0.7 would slow free fall to 0.3 g)
   double local_damping = 0.7;         // alpha of the stones while settling
   double deposition_ratio = 1e-2;     // deposition ends when the mean unbalanced force ratio is below this
   double equilibrium_ratio = 1e-3;    // the bed is settled when the ratio is below this

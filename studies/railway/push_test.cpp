@@ -41,6 +41,26 @@ NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& 
   return s;
 }
 
+void summarise_curve(PushResult& r) {
+  for (const auto& s : r.curve)
+    if (s.force > r.peak_force) r.peak_force = s.force, r.u_at_peak = s.u;
+  r.final_heave = r.curve.back().heave;
+  for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
+}
+
+void collect_end_state(const dem::Simulation& sim, PushResult& r) {
+  r.end_contacts = sim.contacts();
+  std::vector<double> magnitudes;
+  for (const auto& contact : r.end_contacts) magnitudes.push_back(contact.force.norm());
+  double sum = 0.0;
+  for (double m : magnitudes) sum += m, r.max_contact_force = std::max(r.max_contact_force, m);
+  r.mean_contact_force = magnitudes.empty() ? 0.0 : sum / magnitudes.size();
+  r.contact_force_q999 = nearest_rank_quantile(magnitudes, 0.999);
+  r.end_position = sim.bodies().position;
+  for (std::size_t b = 0; b < r.end_position.size(); ++b)
+    r.displacement.push_back(nearest_image(r.end_position[b] - r.start_position[b], sim.domain()));
+}
+
 }  // namespace
 
 double bed_volume(const SectionGeometry& g) {
@@ -109,26 +129,26 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   std::int64_t in_interval = 0;
   std::int64_t k = 1;
   try {
-  for (; k <= total; ++k) {
-    sim.mutable_boxes()[0].velocity.x() = drive_speed(k - 1);
-    sim.step();
-    if (k == kEstimateSteps && !run.quiet) {
-      const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
-      fmt::print(stderr, "push: {} stones, {} elements, time step {:.3g} s, {} steps, estimated {}\n", r.stones,
-                 r.elements, dt, total, scene::format_duration(per_step * total));
+    for (; k <= total; ++k) {
+      sim.mutable_boxes()[0].velocity.x() = drive_speed(k - 1);
+      sim.step();
+      if (k == kEstimateSteps && !run.quiet) {
+        const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
+        fmt::print(stderr, "push: {} stones, {} elements, time step {:.3g} s, {} steps, estimated {}\n", r.stones,
+                   r.elements, dt, total, scene::format_duration(per_step * total));
+      }
+      force_sum += -sim.box_force(0).x();
+      ++in_interval;
+      const double u = sim.boxes()[0].centre.x() - x0;
+      if (k % record_every == 0 || k == total) {
+        r.curve.push_back({u, force_sum / in_interval, sim.boxes()[0].centre.z() - z0, sim.time()});
+        force_sum = 0.0;
+        in_interval = 0;
+        progress.update(u * 1e3, fmt::format("u = {:.3f} mm  F = {:.3f} kN", u * 1e3, r.curve.back().force * 1e-3));
+      }
+      if (k % network_every == 0) r.network.push_back(sample_network(sim, c, u, run.velocity, mean_size, volume));
+      if (frames && (k % frame_every == 0 || k == total)) frames->write_frame(sim);
     }
-    force_sum += -sim.box_force(0).x();
-    ++in_interval;
-    const double u = sim.boxes()[0].centre.x() - x0;
-    if (k % record_every == 0 || k == total) {
-      r.curve.push_back({u, force_sum / in_interval, sim.boxes()[0].centre.z() - z0, sim.time()});
-      force_sum = 0.0;
-      in_interval = 0;
-      progress.update(u * 1e3, fmt::format("u = {:.3f} mm  F = {:.3f} kN", u * 1e3, r.curve.back().force * 1e-3));
-    }
-    if (k % network_every == 0) r.network.push_back(sample_network(sim, c, u, run.velocity, mean_size, volume));
-    if (frames && (k % frame_every == 0 || k == total)) frames->write_frame(sim);
-  }
   } catch (const dem::StabilityError& e) {
     r.status = "unstable";
     r.message = e.what();
@@ -137,21 +157,9 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   progress.finish();
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.steps = std::min(k, total);
-
-  for (const auto& s : r.curve)
-    if (s.force > r.peak_force) r.peak_force = s.force, r.u_at_peak = s.u;
-  r.final_heave = r.curve.back().heave;
-  for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
-  r.end_contacts = sim.contacts();
-  std::vector<double> magnitudes;
-  for (const auto& k : r.end_contacts) magnitudes.push_back(k.force.norm());
-  double sum = 0.0;
-  for (double m : magnitudes) sum += m, r.max_contact_force = std::max(r.max_contact_force, m);
-  r.mean_contact_force = magnitudes.empty() ? 0.0 : sum / magnitudes.size();
-  r.contact_force_q999 = nearest_rank_quantile(magnitudes, 0.999);
-  r.end_position = sim.bodies().position;
-  for (std::size_t b = 0; b < r.end_position.size(); ++b)
-    r.displacement.push_back(nearest_image(r.end_position[b] - r.start_position[b], sim.domain()));
+  summarise_curve(r);
+  // After a guard tripped the state is not to be trusted: the curve up to then is the result.
+  if (r.status == "finished") collect_end_state(sim, r);
   return r;
 }
 
