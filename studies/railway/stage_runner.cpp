@@ -9,6 +9,11 @@
 #include "studies/scene/progress.hpp"
 
 namespace mfdem::railway {
+namespace {
+
+constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate printed at the start
+
+}  // namespace
 
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
                               double energy_scale, double max_time, bool quiet, dem::StateFile* frames, double frame_interval,
@@ -26,6 +31,12 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
   int below = 0;
   for (std::int64_t k = 1; k <= limit; ++k) {
     sim.step();
+    if (k == kEstimateSteps && !quiet) {
+      const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
+      fmt::print(stderr, "{}: {} bodies, {} elements, time step {:.3g} s, at most {} steps ({} s), estimated at most {}\n",
+                 name, sim.bodies().size(), sim.elements().size(), sim.time_step(), limit, max_time,
+                 scene::format_duration(per_step * limit));
+    }
     if (frames && k % frame_every == 0) frames->write_frame(sim);
     if (k % every != 0) continue;
     r.unbalanced_force_ratio = sim.unbalanced_force_ratio();
