@@ -182,9 +182,13 @@ void Simulation::update_element_positions(Index b) {
     elements_.position[bodies_.element_begin(b)] = bodies_.position[b];
     return;
   }
+  place_elements(b, bodies_.orientation[b].toRotationMatrix());
+}
+
+void Simulation::place_elements(Index b, const Mat3& rotation) {
   const Index end = bodies_.element_end(b);
   for (Index e = bodies_.element_begin(b); e < end; ++e)
-    elements_.position[e] = bodies_.position[b] + bodies_.orientation[b] * elements_.offset[e];
+    elements_.position[e] = bodies_.position[b] + rotation * elements_.offset[e];
 }
 
 // Half kick: v += h F/m; the angular momentum takes h T. A point body (sphere) has an isotropic
@@ -195,10 +199,10 @@ void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) 
     bodies_.angular_velocity[b] += h * torque.cwiseQuotient(bodies_.inertia[b]);
     return;
   }
-  const Quat& q = bodies_.orientation[b];
-  const Vec3 l_body = body_angular_momentum(q, bodies_.inertia[b], bodies_.angular_velocity[b]) +
-                      h * (q.conjugate() * torque);
-  bodies_.angular_velocity[b] = world_angular_velocity(q, bodies_.inertia[b], l_body);
+  // l_body += h R^T T, so w = R (l_body / I) gains R ((h R^T T) / I): no round trip of w
+  // through the body frame, and one rotation matrix instead of three quaternion rotations.
+  const Mat3 r = bodies_.orientation[b].toRotationMatrix();
+  bodies_.angular_velocity[b] += r * (h * (r.transpose() * torque)).cwiseQuotient(bodies_.inertia[b]);
 }
 
 // Free axes of a box move under the elements' force and gravity; driven axes keep their speed.
@@ -242,16 +246,25 @@ void Simulation::drift_and_kick() {
     if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
           finite(bodies_.angular_velocity[b])))
       first_bad = std::min(first_bad, b);
-    kick(b, bodies_.force[b], bodies_.torque[b], half);
-    bodies_.position[b] += dt_ * bodies_.velocity[b];
-    if (!point_body_[b]) {
-      Vec3 l_body = body_angular_momentum(bodies_.orientation[b], bodies_.inertia[b],
-                                          bodies_.angular_velocity[b]);
-      free_rotation(bodies_.orientation[b], l_body, bodies_.inertia[b], dt_);
-      bodies_.angular_velocity[b] =
-          world_angular_velocity(bodies_.orientation[b], bodies_.inertia[b], l_body);
+    if (point_body_[b]) {
+      kick(b, bodies_.force[b], bodies_.torque[b], half);
+      bodies_.position[b] += dt_ * bodies_.velocity[b];
+      elements_.position[bodies_.element_begin(b)] = bodies_.position[b];
+    } else {
+      // Half kick straight into the body-frame angular momentum, free rotation, and the
+      // elements placed with the new orientation's rotation matrix.
+      bodies_.velocity[b] += (half / bodies_.mass[b]) * bodies_.force[b];
+      bodies_.position[b] += dt_ * bodies_.velocity[b];
+      Quat& q = bodies_.orientation[b];
+      const Vec3& inertia = bodies_.inertia[b];
+      const Mat3 r0 = q.toRotationMatrix();
+      Vec3 l_body = inertia.cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
+                    half * (r0.transpose() * bodies_.torque[b]);
+      free_rotation(q, l_body, inertia, dt_);
+      const Mat3 r1 = q.toRotationMatrix();
+      bodies_.angular_velocity[b] = r1 * l_body.cwiseQuotient(inertia);
+      place_elements(b, r1);
     }
-    update_element_positions(b);
     const Index end = bodies_.element_end(b);
     for (Index e = bodies_.element_begin(b); e < end; ++e)
       max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());

@@ -149,6 +149,7 @@ class Simulation {
   void gather_and_kick();
   void check_stability();
   void update_element_positions(Index b);
+  void place_elements(Index b, const Mat3& rotation);  // elements of body b, orientation given
   Index add_body(const ClumpSpec& body);
   [[gnu::always_inline]] inline void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
