@@ -185,6 +185,15 @@ class Simulation {
   [[gnu::always_inline]] inline PairResult compute_pair(Index p, const Vec3& length, double dt);
   template <bool kPointBodies>
   void evaluate_pairs_of();
+  // Vector from pair p's first element to its second (periodic image included).
+  [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
+    const Vec3& xi = elements_.position[pairs_.first[p]];
+    const Vec3& xj = elements_.position[pairs_.second[p]];
+    // Without periodic axes every image is zero: skip the int-to-double conversions.
+    return any_periodic_ ? Vec3(xj + image_shift(pairs_.image[p], length) - xi) : Vec3(xj - xi);
+  }
+  bool any_periodic_ = false;
+  std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
   std::vector<Vec3> build_position_;          // element positions at the last build
