@@ -313,6 +313,35 @@ void Simulation::rebuild() {
   pair_active_.assign(n, 0);
   build_position_ = elements_.position;
   ++rebuilds_;
+  scan_walls_ = true;
+}
+
+// Marks the elements that may touch a plane wall before the next scan. Until the next
+// neighbour-list build an element stays within skin/2 of its build position, so within skin of
+// where it is now; a scan is redone when a wall has moved by skin/4 (or turned). An element
+// further than 1.5 skin from every wall now therefore stays at least skin/4 clear of them: its
+// wall loop would do nothing, and gather_and_kick skips it.
+void Simulation::scan_walls() {
+  const Index ne = elements_.size();
+  const std::size_t nw = walls_.size();
+  near_wall_.resize(ne);
+  const double reach = 1.5 * skin_;
+#pragma omp parallel for schedule(static) if (ne > kChunkSize)
+  for (Index e = 0; e < ne; ++e) {
+    bool near = false;
+    for (std::size_t w = 0; w < nw; ++w) {
+      const double gap = (elements_.position[e] - walls_[w].point).dot(walls_[w].normal);
+      near = near || gap - elements_.radius[e] < reach || wall_active_[e * nw + w];
+    }
+    near_wall_[e] = near;
+  }
+  wall_scan_point_.resize(nw);
+  wall_scan_normal_.resize(nw);
+  for (std::size_t w = 0; w < nw; ++w) {
+    wall_scan_point_[w] = walls_[w].point;
+    wall_scan_normal_[w] = walls_[w].normal;
+  }
+  scan_walls_ = false;
 }
 
 // One pair's contact for this step: updates its history and activity flag and returns the
@@ -511,6 +540,10 @@ void Simulation::gather_and_kick() {
   const bool kick_now = gather_and_kick_;
   const Vec3 gravity = settings_.gravity;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
+  for (std::size_t w = 0; w < nw && !scan_walls_; ++w)
+    scan_walls_ = (walls_[w].point - wall_scan_point_[w]).squaredNorm() > 0.0625 * skin_ * skin_ ||
+                  walls_[w].normal != wall_scan_normal_[w];
+  if (scan_walls_) scan_walls();
 #pragma omp parallel for schedule(static) if (chunks > 1)
   for (Index c = 0; c < chunks; ++c) {
     ChunkEnergy acc;
@@ -529,7 +562,8 @@ void Simulation::gather_and_kick() {
         Vec3 te = element_torque_[e];
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];
-        for (std::size_t w = 0; w < nw; ++w) {
+        const std::size_t nw_e = near_wall_[e] ? nw : 0;  // see scan_walls
+        for (std::size_t w = 0; w < nw_e; ++w) {
           const PlaneWall& wall = walls_[w];
           const double gap = (xe - wall.point).dot(wall.normal);
           // Most elements touch no wall: test the flag before touching the 56-byte history.

@@ -196,6 +196,10 @@ class Simulation {
   std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
+  void scan_walls();
+  std::vector<std::uint8_t> near_wall_;       // per element: may touch a plane wall (scan_walls)
+  std::vector<Vec3> wall_scan_point_, wall_scan_normal_;  // the walls at the last scan
+  bool scan_walls_ = true;
   std::vector<Vec3> build_position_;          // element positions at the last build
   double skin_ = 0.0;
 
