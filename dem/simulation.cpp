@@ -423,12 +423,16 @@ void Simulation::evaluate_pairs_of() {
   const Index nb = bodies_.size();
   const int blocks = np > kChunkSize ? omp_get_max_threads() : 1;
   if (static_cast<int>(pair_work_.size()) < blocks) pair_work_.resize(blocks);
-  element_force_.assign(ne, Vec3::Zero());
-  element_torque_.assign(ne, Vec3::Zero());
+  // The sums start from zero: gather_and_kick and the energy loop below zero them as they read
+  // them, which spares a pass over the elements.
+  if (static_cast<Index>(element_force_.size()) != ne) {
+    element_force_.assign(ne, Vec3::Zero());
+    element_torque_.assign(ne, Vec3::Zero());
+    row_damping_.assign(ne, 0.0);
+    row_friction_.assign(ne, 0.0);
+  }
   pair_damping_.resize(np);
   pair_friction_.resize(np);
-  row_damping_.assign(ne, 0.0);
-  row_friction_.assign(ne, 0.0);
   const Vec3 length = domain_.length();
   const double dt = dt_;
   const Index chunks = chunk_count(ne);
@@ -448,7 +452,9 @@ void Simulation::evaluate_pairs_of() {
       row_friction_[pairs_.first[p]] += r.friction;
       if (r.too_deep) bad_pair = std::min(bad_pair, p);
     };
-    for (Index p = p0; p < p1; ++p) {  // phase A
+    // The last block has no later block to store pairs for (phase A), and the first no earlier
+    // one to take stored pairs from: on one thread both loops are skipped.
+    for (Index p = p0; p < (t + 1 < nt ? p1 : p0); ++p) {  // phase A
       if (pairs_.second[p] < e1) continue;
       const PairResult r = compute_pair<kPointBodies>(p, length, dt);
       if (r.too_deep) bad_pair = std::min(bad_pair, p);
@@ -459,7 +465,7 @@ void Simulation::evaluate_pairs_of() {
       pair_torque_second_[p] = r.torque_second;
     }
 #pragma omp barrier
-    for (Index e = e0; e < e1; ++e) {  // phase B: stored pairs of earlier blocks
+    for (Index e = e0; e < (t > 0 ? e1 : e0); ++e) {  // phase B: stored pairs of earlier blocks
       for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
         const Index p = pairs_.as_second_pair[k];
         if (p >= p0) break;
@@ -510,6 +516,8 @@ void Simulation::evaluate_pairs_of() {
       for (Index e = chunk_begin(c); e < end; ++e) {
         acc.damping += row_damping_[e];
         acc.friction += row_friction_[e];
+        row_damping_[e] = 0.0;
+        row_friction_[e] = 0.0;
       }
       pair_chunk_energy_[c] = acc;
     }
@@ -519,6 +527,9 @@ void Simulation::evaluate_pairs_of() {
     dissipated_friction_ += acc.friction;
   }
   if (bad_pair < np) {
+    // gather_and_kick will not run to zero the sums (see above).
+    std::fill(element_force_.begin(), element_force_.end(), Vec3::Zero());
+    std::fill(element_torque_.begin(), element_torque_.end(), Vec3::Zero());
     const Index i = pairs_.first[bad_pair], j = pairs_.second[bad_pair];
     fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
                      "(stiffness too low for the load, or time step too large)",
@@ -560,6 +571,8 @@ void Simulation::gather_and_kick() {
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
         Vec3 fe = element_force_[e];
         Vec3 te = element_torque_[e];
+        element_force_[e] = Vec3::Zero();  // the next evaluate_pairs sums from zero
+        element_torque_[e] = Vec3::Zero();
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];
         const std::size_t nw_e = near_wall_[e] ? nw : 0;  // see scan_walls
