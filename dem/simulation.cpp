@@ -157,6 +157,9 @@ void Simulation::prepare() {
   box_force_.assign(nx, Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
+  clump_bodies_.clear();
+  for (Index b = 0; b < bodies_.size(); ++b)
+    if (!point_body_[b]) clump_bodies_.push_back(b);
   any_periodic_ = domain_.periodic[0] || domain_.periodic[1] || domain_.periodic[2];
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
@@ -250,25 +253,47 @@ void Simulation::drift_and_kick() {
     if (point_body_[b]) {
       kick(b, bodies_.force[b], bodies_.torque[b], half);
       bodies_.position[b] += dt_ * bodies_.velocity[b];
-      elements_.position[bodies_.element_begin(b)] = bodies_.position[b];
-    } else {
-      // Half kick straight into the body-frame angular momentum, free rotation, and the
-      // elements placed with the new orientation's rotation matrix.
+      const Index e = bodies_.element_begin(b);
+      elements_.position[e] = bodies_.position[b];
+      max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+    }  // clumps: below
+  }
+  // Clumps, kRotationBatch at a time (see free_rotations): half kick straight into the
+  // body-frame angular momentum, drift, free rotation, and the pebbles placed with the new
+  // orientation's rotation matrix.
+  const Index nc = static_cast<Index>(clump_bodies_.size());
+  const Index batches = (nc + kRotationBatch - 1) / kRotationBatch;
+#pragma omp parallel for schedule(static) reduction(max : max_move2) if (nc > kChunkSize)
+  for (Index k = 0; k < batches; ++k) {
+    const Index* batch = &clump_bodies_[k * kRotationBatch];
+    const int n = static_cast<int>(std::min<Index>(kRotationBatch, nc - k * kRotationBatch));
+    Quat* q[kRotationBatch];
+    const Vec3* inertia[kRotationBatch];
+    Vec3 l_body[kRotationBatch];
+    for (int m = 0; m < n; ++m) {
+      const Index b = batch[m];
       bodies_.velocity[b] += (half / bodies_.mass[b]) * bodies_.force[b];
       bodies_.position[b] += dt_ * bodies_.velocity[b];
-      Quat& q = bodies_.orientation[b];
-      const Vec3& inertia = bodies_.inertia[b];
-      const Mat3 r0 = q.toRotationMatrix();
-      Vec3 l_body = inertia.cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
-                    half * (r0.transpose() * bodies_.torque[b]);
-      free_rotation(q, l_body, inertia, dt_);
-      const Mat3 r1 = q.toRotationMatrix();
-      bodies_.angular_velocity[b] = r1 * l_body.cwiseQuotient(inertia);
-      place_elements(b, r1);
+      q[m] = &bodies_.orientation[b];
+      inertia[m] = &bodies_.inertia[b];
+      const Mat3 r0 = q[m]->toRotationMatrix();
+      l_body[m] = inertia[m]->cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
+                  half * (r0.transpose() * bodies_.torque[b]);
     }
-    const Index end = bodies_.element_end(b);
-    for (Index e = bodies_.element_begin(b); e < end; ++e)
-      max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+    if (n == kRotationBatch) {
+      free_rotations<kRotationBatch>(q, l_body, inertia, dt_);
+    } else {
+      for (int m = 0; m < n; ++m) free_rotation(*q[m], l_body[m], *inertia[m], dt_);
+    }
+    for (int m = 0; m < n; ++m) {
+      const Index b = batch[m];
+      const Mat3 r1 = q[m]->toRotationMatrix();
+      bodies_.angular_velocity[b] = r1 * l_body[m].cwiseQuotient(*inertia[m]);
+      place_elements(b, r1);
+      const Index end = bodies_.element_end(b);
+      for (Index e = bodies_.element_begin(b); e < end; ++e)
+        max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+    }
   }
   max_move2_ = max_move2;
   // A state made non-finite between steps (by a caller): name that body now, before the contact

@@ -163,6 +163,8 @@ class Simulation {
   Elements elements_;
   std::vector<PlaneWall> walls_;
   std::vector<std::uint8_t> point_body_;  // one element at the centre: rotation needs no frame
+  std::vector<Index> clump_bodies_;       // the bodies that are not point bodies, in order
+  static constexpr int kRotationBatch = 4;  // clumps rotated side by side (free_rotations)
   std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
 
   PairList pairs_;
