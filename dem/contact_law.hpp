@@ -68,9 +68,15 @@ struct ContactOutcome {
                             double dt) {
   const double magnitude2 = v.squaredNorm();
   if (magnitude2 == 0.0) return v;
-  Vec3 t = v - v.dot(normal) * normal;
-  t += (spin_about_normal * dt) * normal.cross(t);
-  const double t2 = t.squaredNorm();
+  const double along = v.dot(normal);
+  const double turn = spin_about_normal * dt;
+  Vec3 t = v - along * normal;
+  t += turn * normal.cross(t);
+  // |t|^2 = (|v|^2 - (v.n)^2)(1 + turn^2) (the turn adds n x t, normal to t and as long), known
+  // without waiting for t: it shortens the kernel's longest chain of dependent operations. Where
+  // v lies almost along n the difference cancels, and |t|^2 is summed instead.
+  const double across2 = magnitude2 - along * along;
+  const double t2 = across2 > 0.5 * magnitude2 ? across2 * (1.0 + turn * turn) : t.squaredNorm();
   if (t2 == 0.0) return Vec3::Zero();
   return t * std::sqrt(magnitude2 / t2);
 }

@@ -164,6 +164,10 @@ void Simulation::prepare() {
   box_force_.assign(nx, Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
+  clump_bodies_.clear();
+  for (Index b = 0; b < bodies_.size(); ++b)
+    if (!point_body_[b]) clump_bodies_.push_back(b);
+  any_periodic_ = domain_.periodic[0] || domain_.periodic[1] || domain_.periodic[2];
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
   rebuild();
@@ -189,9 +193,13 @@ void Simulation::update_element_positions(Index b) {
     elements_.position[bodies_.element_begin(b)] = bodies_.position[b];
     return;
   }
+  place_elements(b, bodies_.orientation[b].toRotationMatrix());
+}
+
+void Simulation::place_elements(Index b, const Mat3& rotation) {
   const Index end = bodies_.element_end(b);
   for (Index e = bodies_.element_begin(b); e < end; ++e)
-    elements_.position[e] = bodies_.position[b] + bodies_.orientation[b] * elements_.offset[e];
+    elements_.position[e] = bodies_.position[b] + rotation * elements_.offset[e];
 }
 
 // Half kick: v += h F/m; the angular momentum takes h T. A point body (sphere) has an isotropic
@@ -202,10 +210,10 @@ void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) 
     bodies_.angular_velocity[b] += h * torque.cwiseQuotient(bodies_.inertia[b]);
     return;
   }
-  const Quat& q = bodies_.orientation[b];
-  const Vec3 l_body = body_angular_momentum(q, bodies_.inertia[b], bodies_.angular_velocity[b]) +
-                      h * (q.conjugate() * torque);
-  bodies_.angular_velocity[b] = world_angular_velocity(q, bodies_.inertia[b], l_body);
+  // l_body += h R^T T, so w = R (l_body / I) gains R ((h R^T T) / I): no round trip of w
+  // through the body frame, and one rotation matrix instead of three quaternion rotations.
+  const Mat3 r = bodies_.orientation[b].toRotationMatrix();
+  bodies_.angular_velocity[b] += r * (h * (r.transpose() * torque)).cwiseQuotient(bodies_.inertia[b]);
 }
 
 // Free axes of a box move under the elements' force and gravity; driven axes keep their speed.
@@ -249,19 +257,50 @@ void Simulation::drift_and_kick() {
     if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
           finite(bodies_.angular_velocity[b])))
       first_bad = std::min(first_bad, b);
-    kick(b, bodies_.force[b], bodies_.torque[b], half);
-    bodies_.position[b] += dt_ * bodies_.velocity[b];
-    if (!point_body_[b]) {
-      Vec3 l_body = body_angular_momentum(bodies_.orientation[b], bodies_.inertia[b],
-                                          bodies_.angular_velocity[b]);
-      free_rotation(bodies_.orientation[b], l_body, bodies_.inertia[b], dt_);
-      bodies_.angular_velocity[b] =
-          world_angular_velocity(bodies_.orientation[b], bodies_.inertia[b], l_body);
-    }
-    update_element_positions(b);
-    const Index end = bodies_.element_end(b);
-    for (Index e = bodies_.element_begin(b); e < end; ++e)
+    if (point_body_[b]) {
+      kick(b, bodies_.force[b], bodies_.torque[b], half);
+      bodies_.position[b] += dt_ * bodies_.velocity[b];
+      const Index e = bodies_.element_begin(b);
+      elements_.position[e] = bodies_.position[b];
       max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+    }  // clumps: below
+  }
+  // Clumps, kRotationBatch at a time (see free_rotations): half kick straight into the
+  // body-frame angular momentum, drift, free rotation, and the pebbles placed with the new
+  // orientation's rotation matrix.
+  const Index nc = static_cast<Index>(clump_bodies_.size());
+  const Index batches = (nc + kRotationBatch - 1) / kRotationBatch;
+#pragma omp parallel for schedule(static) reduction(max : max_move2) if (nc > kChunkSize)
+  for (Index k = 0; k < batches; ++k) {
+    const Index* batch = &clump_bodies_[k * kRotationBatch];
+    const int n = static_cast<int>(std::min<Index>(kRotationBatch, nc - k * kRotationBatch));
+    Quat* q[kRotationBatch];
+    const Vec3* inertia[kRotationBatch];
+    Vec3 l_body[kRotationBatch];
+    for (int m = 0; m < n; ++m) {
+      const Index b = batch[m];
+      bodies_.velocity[b] += (half / bodies_.mass[b]) * bodies_.force[b];
+      bodies_.position[b] += dt_ * bodies_.velocity[b];
+      q[m] = &bodies_.orientation[b];
+      inertia[m] = &bodies_.inertia[b];
+      const Mat3 r0 = q[m]->toRotationMatrix();
+      l_body[m] = inertia[m]->cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
+                  half * (r0.transpose() * bodies_.torque[b]);
+    }
+    if (n == kRotationBatch) {
+      free_rotations<kRotationBatch>(q, l_body, inertia, dt_);
+    } else {
+      for (int m = 0; m < n; ++m) free_rotation(*q[m], l_body[m], *inertia[m], dt_);
+    }
+    for (int m = 0; m < n; ++m) {
+      const Index b = batch[m];
+      const Mat3 r1 = q[m]->toRotationMatrix();
+      bodies_.angular_velocity[b] = r1 * l_body[m].cwiseQuotient(*inertia[m]);
+      place_elements(b, r1);
+      const Index end = bodies_.element_end(b);
+      for (Index e = bodies_.element_begin(b); e < end; ++e)
+        max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+    }
   }
   max_move2_ = max_move2;
   // A state made non-finite between steps (by a caller): name that body now, before the contact
@@ -306,6 +345,35 @@ void Simulation::rebuild() {
   pair_active_.assign(n, 0);
   build_position_ = elements_.position;
   ++rebuilds_;
+  scan_walls_ = true;
+}
+
+// Marks the elements that may touch a plane wall before the next scan. Until the next
+// neighbour-list build an element stays within skin/2 of its build position, so within skin of
+// where it is now; a scan is redone when a wall has moved by skin/4 (or turned). An element
+// further than 1.5 skin from every wall now therefore stays at least skin/4 clear of them: its
+// wall loop would do nothing, and gather_and_kick skips it.
+void Simulation::scan_walls() {
+  const Index ne = elements_.size();
+  const std::size_t nw = walls_.size();
+  near_wall_.resize(ne);
+  const double reach = 1.5 * skin_;
+#pragma omp parallel for schedule(static) if (ne > kChunkSize)
+  for (Index e = 0; e < ne; ++e) {
+    bool near = false;
+    for (std::size_t w = 0; w < nw; ++w) {
+      const double gap = (elements_.position[e] - walls_[w].point).dot(walls_[w].normal);
+      near = near || gap - elements_.radius[e] < reach || wall_active_[e * nw + w];
+    }
+    near_wall_[e] = near;
+  }
+  wall_scan_point_.resize(nw);
+  wall_scan_normal_.resize(nw);
+  for (std::size_t w = 0; w < nw; ++w) {
+    wall_scan_point_[w] = walls_[w].point;
+    wall_scan_normal_[w] = walls_[w].normal;
+  }
+  scan_walls_ = false;
 }
 
 // One pair's contact for this step: updates its history and activity flag and returns the
@@ -315,9 +383,7 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
   PairResult out;
   const Index i = pairs_.first[p], j = pairs_.second[p];
   const double ri = elements_.radius[i], rj = elements_.radius[j];
-  const Vec3 xi = elements_.position[i];
-  const Vec3 xj = elements_.position[j] + image_shift(pairs_.image[p], length);
-  const Vec3 d = xj - xi;
+  const Vec3 d = separation(p, length);
   const double reach = ri + rj;
   const double r2 = d.squaredNorm();
   // With only spheres, element k is body k and sits at its centre: skip the indirection.
@@ -388,12 +454,17 @@ void Simulation::evaluate_pairs_of() {
   const Index ne = elements_.size();
   const Index nb = bodies_.size();
   const int blocks = np > kChunkSize ? omp_get_max_threads() : 1;
-  element_force_.assign(ne, Vec3::Zero());
-  element_torque_.assign(ne, Vec3::Zero());
+  if (static_cast<int>(pair_work_.size()) < blocks) pair_work_.resize(blocks);
+  // The sums start from zero: gather_and_kick and the energy loop below zero them as they read
+  // them, which spares a pass over the elements.
+  if (static_cast<Index>(element_force_.size()) != ne) {
+    element_force_.assign(ne, Vec3::Zero());
+    element_torque_.assign(ne, Vec3::Zero());
+    row_damping_.assign(ne, 0.0);
+    row_friction_.assign(ne, 0.0);
+  }
   pair_damping_.resize(np);
   pair_friction_.resize(np);
-  row_damping_.assign(ne, 0.0);
-  row_friction_.assign(ne, 0.0);
   const Vec3 length = domain_.length();
   const double dt = dt_;
   const Index chunks = chunk_count(ne);
@@ -413,7 +484,9 @@ void Simulation::evaluate_pairs_of() {
       row_friction_[pairs_.first[p]] += r.friction;
       if (r.too_deep) bad_pair = std::min(bad_pair, p);
     };
-    for (Index p = p0; p < p1; ++p) {  // phase A
+    // The last block has no later block to store pairs for (phase A), and the first no earlier
+    // one to take stored pairs from: on one thread both loops are skipped.
+    for (Index p = p0; p < (t + 1 < nt ? p1 : p0); ++p) {  // phase A
       if (pairs_.second[p] < e1) continue;
       const PairResult r = compute_pair<kPointBodies>(p, length, dt);
       if (r.too_deep) bad_pair = std::min(bad_pair, p);
@@ -424,7 +497,7 @@ void Simulation::evaluate_pairs_of() {
       pair_torque_second_[p] = r.torque_second;
     }
 #pragma omp barrier
-    for (Index e = e0; e < e1; ++e) {  // phase B: stored pairs of earlier blocks
+    for (Index e = e0; e < (t > 0 ? e1 : e0); ++e) {  // phase B: stored pairs of earlier blocks
       for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
         const Index p = pairs_.as_second_pair[k];
         if (p >= p0) break;
@@ -433,7 +506,22 @@ void Simulation::evaluate_pairs_of() {
         element_torque_[e] += pair_torque_second_[p];
       }
     }
-    for (Index p = p0; p < p1; ++p) {  // phase B: own rows in order
+    // Phase B visits only the pairs that do something: stored ones, touching ones, and active
+    // ones that open now. The rest (a third or more of a Verlet list) add nothing, and sorting
+    // them out first in a loop without branches spares the pair loop a branch that the CPU
+    // mispredicts about every other pair.
+    std::vector<Index>& work = pair_work_[t];
+    work.resize(p1 - p0);
+    Index n_work = 0;
+    for (Index p = p0; p < p1; ++p) {
+      const Index i = pairs_.first[p], j = pairs_.second[p];
+      const double reach = elements_.radius[i] + elements_.radius[j];
+      const bool apart = separation(p, length).squaredNorm() >= reach * reach;
+      work[n_work] = p;
+      n_work += static_cast<Index>((j >= e1) | (pair_active_[p] != 0) | !apart);
+    }
+    for (Index k = 0; k < n_work; ++k) {  // phase B: own rows in order
+      const Index p = work[k];
       const Index i = pairs_.first[p], j = pairs_.second[p];
       if (j >= e1) {
         row_damping_[i] += pair_damping_[p];
@@ -460,6 +548,8 @@ void Simulation::evaluate_pairs_of() {
       for (Index e = chunk_begin(c); e < end; ++e) {
         acc.damping += row_damping_[e];
         acc.friction += row_friction_[e];
+        row_damping_[e] = 0.0;
+        row_friction_[e] = 0.0;
       }
       pair_chunk_energy_[c] = acc;
     }
@@ -469,6 +559,9 @@ void Simulation::evaluate_pairs_of() {
     dissipated_friction_ += acc.friction;
   }
   if (bad_pair < np) {
+    // gather_and_kick will not run to zero the sums (see above).
+    std::fill(element_force_.begin(), element_force_.end(), Vec3::Zero());
+    std::fill(element_torque_.begin(), element_torque_.end(), Vec3::Zero());
     const Index i = pairs_.first[bad_pair], j = pairs_.second[bad_pair];
     fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
                      "(stiffness too low for the load, or time step too large)",
@@ -490,6 +583,10 @@ void Simulation::gather_and_kick() {
   const bool kick_now = gather_and_kick_;
   const Vec3 gravity = settings_.gravity;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
+  for (std::size_t w = 0; w < nw && !scan_walls_; ++w)
+    scan_walls_ = (walls_[w].point - wall_scan_point_[w]).squaredNorm() > 0.0625 * skin_ * skin_ ||
+                  walls_[w].normal != wall_scan_normal_[w];
+  if (scan_walls_) scan_walls();
 #pragma omp parallel for schedule(static) if (chunks > 1)
   for (Index c = 0; c < chunks; ++c) {
     ChunkEnergy acc;
@@ -506,9 +603,12 @@ void Simulation::gather_and_kick() {
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
         Vec3 fe = element_force_[e];
         Vec3 te = element_torque_[e];
+        element_force_[e] = Vec3::Zero();  // the next evaluate_pairs sums from zero
+        element_torque_[e] = Vec3::Zero();
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];
-        for (std::size_t w = 0; w < nw; ++w) {
+        const std::size_t nw_e = near_wall_[e] ? nw : 0;  // see scan_walls
+        for (std::size_t w = 0; w < nw_e; ++w) {
           const PlaneWall& wall = walls_[w];
           const double gap = (xe - wall.point).dot(wall.normal);
           // Most elements touch no wall: test the flag before touching the 56-byte history.

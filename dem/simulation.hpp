@@ -153,6 +153,7 @@ class Simulation {
   void gather_and_kick();
   void check_stability();
   void update_element_positions(Index b);
+  void place_elements(Index b, const Mat3& rotation);  // elements of body b, orientation given
   Index add_body(const ClumpSpec& body);
   [[gnu::always_inline]] inline void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
@@ -166,6 +167,8 @@ class Simulation {
   Elements elements_;
   std::vector<PlaneWall> walls_;
   std::vector<std::uint8_t> point_body_;  // one element at the centre: rotation needs no frame
+  std::vector<Index> clump_bodies_;       // the bodies that are not point bodies, in order
+  static constexpr int kRotationBatch = 4;  // clumps rotated side by side (free_rotations)
   std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
 
   PairList pairs_;
@@ -188,8 +191,21 @@ class Simulation {
   [[gnu::always_inline]] inline PairResult compute_pair(Index p, const Vec3& length, double dt);
   template <bool kPointBodies>
   void evaluate_pairs_of();
+  // Vector from pair p's first element to its second (periodic image included).
+  [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
+    const Vec3& xi = elements_.position[pairs_.first[p]];
+    const Vec3& xj = elements_.position[pairs_.second[p]];
+    // Without periodic axes every image is zero: skip the int-to-double conversions.
+    return any_periodic_ ? Vec3(xj + image_shift(pairs_.image[p], length) - xi) : Vec3(xj - xi);
+  }
+  bool any_periodic_ = false;
+  std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
+  void scan_walls();
+  std::vector<std::uint8_t> near_wall_;       // per element: may touch a plane wall (scan_walls)
+  std::vector<Vec3> wall_scan_point_, wall_scan_normal_;  // the walls at the last scan
+  bool scan_walls_ = true;
   std::vector<Vec3> build_position_;          // element positions at the last build
   double skin_ = 0.0;
 
