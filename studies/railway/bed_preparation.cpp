@@ -41,6 +41,36 @@ double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_siz
   return mass * kGravity * mean_size;
 }
 
+struct StageGoal {
+  const char* name;
+  double ratio;     // equilibrium target (stage_runner.hpp)
+  double max_time;  // s
+  double mean_size; // m, of the stones: the energy scale is their weight times it
+};
+
+struct Stage {
+  dem::Simulation sim;
+  StageReport report;
+};
+
+// Sets up one preparation stage, prints its size and step, runs it until settled or its time
+// limit, and writes its frames to stage_directory/NAME.h5 when a directory is given.
+Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::vector<dem::ClumpSpec>& stones,
+                const StageSetup& setup, const StageGoal& goal, bool quiet, const std::filesystem::path& stage_directory) {
+  Stage stage{make_section_simulation(c, domain, stones, setup), {}};
+  dem::Simulation& sim = stage.sim;
+  sim.prepare();
+  if (!quiet)
+    fmt::print(stderr, "{}: time step {:.3g} s, {} x the stability limit {:.3g} s ({})\n", goal.name,
+               sim.time_step(), c.time_step_safety, sim.time_step_limit().limit, sim.time_step_limit().reason);
+  std::unique_ptr<dem::StateFile> frames;
+  if (!stage_directory.empty())
+    frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
+  stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size, c),
+                                   goal.max_time, quiet, frames.get());
+  return stage;
+}
+
 double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
   double top = 0.0;
   for (const auto& b : bodies)
@@ -52,10 +82,6 @@ double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
 
 Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
                     const std::filesystem::path& stage_directory) {
-  const auto stage_file = [&](const dem::Simulation& sim, const char* name) {
-    return stage_directory.empty() ? nullptr
-                                   : std::make_unique<dem::StateFile>(stage_directory / (std::string(name) + ".h5"), sim, name);
-  };
   const SectionGeometry& g = c.geometry;
   const StoneFactory factory(c);
   // Step 1: how many stones fill the container to the ballast top.
@@ -80,22 +106,14 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   deposit.stone_friction = c.preparation.deposition_friction;
   deposit.stone_local_damping = c.preparation.deposition_local_damping;
   deposit.container_walls = true;
-  dem::Simulation deposition = make_section_simulation(c, domain, bodies, deposit);
-  deposition.prepare();
-  report.time_step = deposition.time_step();
-  if (!quiet)
-    fmt::print(stderr, "deposition: {} stones, {} elements, time step {:.3g} s (limit {:.3g} s: {})\n", count,
-               deposition.elements().size(), deposition.time_step(), deposition.time_step_limit().limit,
-               deposition.time_step_limit().reason);
-  auto deposition_frames = stage_file(deposition, "deposit");
-  report.stages.push_back(run_until_settled(deposition, "deposit", c.preparation.deposition_ratio,
-                                            lifting_energy(bodies, mean_size, c),
-                                            c.preparation.max_deposition_time, quiet,
-                                            deposition_frames.get()));
+  const Stage deposition = run_stage(c, domain, bodies, deposit, {"deposit", c.preparation.deposition_ratio,
+                                     c.preparation.max_deposition_time, mean_size}, quiet, stage_directory);
+  report.time_step = deposition.sim.time_step();
+  report.stages.push_back(deposition.report);
 
   // Step 4: trim to the profile, cut the sleeper's place, put the sleeper in.
   const dem::RigidBox sleeper = sleeper_box(g);
-  const auto deposited = body_states(deposition);
+  const auto deposited = body_states(deposition.sim);
   std::vector<dem::ClumpSpec> kept;
   std::vector<StoneRecord> records;
   for (std::size_t k = 0; k < deposited.size(); ++k) {
@@ -112,23 +130,19 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   settle.stone_friction = c.ballast.friction;
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
-  dem::Simulation settling = make_section_simulation(c, domain, kept, settle);
-  settling.prepare();
-  auto settling_frames = stage_file(settling, "settle");
-  report.stages.push_back(run_until_settled(settling, "settle", c.preparation.equilibrium_ratio,
-                                            lifting_energy(kept, mean_size, c),
-                                            c.preparation.max_settling_time, quiet,
-                                            settling_frames.get()));
+  const Stage settling = run_stage(c, domain, kept, settle, {"settle", c.preparation.equilibrium_ratio,
+                                   c.preparation.max_settling_time, mean_size}, quiet, stage_directory);
+  report.stages.push_back(settling.report);
 
   Packing p;
   p.config = c;
   p.stones = std::move(records);
-  p.bodies = body_states(settling);
-  p.sleeper = settling.boxes()[0];
+  p.bodies = body_states(settling.sim);
+  p.sleeper = settling.sim.boxes()[0];
   p.sleeper.velocity = dem::Vec3::Zero();
   p.domain = domain;
-  p.preparation_time = deposition.time() + settling.time();
-  p.unbalanced_force_ratio = settling.unbalanced_force_ratio();
+  p.preparation_time = deposition.sim.time() + settling.sim.time();
+  p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   return p;
 }
 

@@ -56,6 +56,15 @@ def sleeper_outline(ax, data: dict, shift: float = 0.0) -> None:
                                ec="k", label="sleeper"))
 
 
+def section_view(ax, run: dict, pos) -> None:
+    """The bed seen along the track (x-z), to scale, with the sleeper's outline."""
+    sleeper_outline(ax, run)
+    ax.set_xlim(pos[:, 0].min() - 0.05, pos[:, 0].max() + 0.05)
+    ax.set_ylim(0, pos[:, 2].max() + 0.05)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x across the track (m)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("outs", nargs="+", type=Path, help="directories holding push.h5")
@@ -94,11 +103,7 @@ def main() -> None:
     lc = LineCollection(segs, linewidths=0.2 + 3.0 * scale, cmap="inferno_r", array=fs * 1e-3)
     ax.add_collection(lc)
     fig.colorbar(lc, ax=ax, label="contact force (kN)", shrink=0.8)
-    sleeper_outline(ax, run)
-    ax.set_xlim(pos[:, 0].min() - 0.05, pos[:, 0].max() + 0.05)
-    ax.set_ylim(0, pos[:, 2].max() + 0.05)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x across the track (m)")
+    section_view(ax, run, pos)
     ax.set_ylabel("z (m)")
     ax.set_title(f"Force chains at u_end ({labels[0]}; max {run['max_contact_force']:.0f} N, "
                  f"q99.9 {run['contact_force_q999']:.0f} N)", fontsize=9)
@@ -109,11 +114,7 @@ def main() -> None:
     q = ax.quiver(pos[:, 0], pos[:, 2], d[:, 0], d[:, 2], mag, cmap="viridis", angles="xy",
                   scale_units="xy", scale=max(np.abs(d[:, [0, 2]]).max(), 1e-12) / 0.04, width=0.003)
     fig.colorbar(q, ax=ax, label="stone displacement (mm)", shrink=0.8)
-    sleeper_outline(ax, run)
-    ax.set_xlim(pos[:, 0].min() - 0.05, pos[:, 0].max() + 0.05)
-    ax.set_ylim(0, pos[:, 2].max() + 0.05)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x across the track (m)")
+    section_view(ax, run, pos)
     ax.set_title("Displacement field at u_end (x-z, arrows not to scale)", fontsize=9)
     fig.savefig(args.save, dpi=130)
     print(f"wrote {args.save}")
