@@ -24,6 +24,16 @@ struct Domain {
     }
     return shift;
   }
+
+  // The periodic image of a separation d nearest zero (minimum image along periodic axes).
+  Vec3 nearest_image(Vec3 d) const {
+    for (int a = 0; a < 3; ++a) {
+      if (!periodic[a]) continue;
+      const double l = max[a] - min[a];
+      d[a] -= l * std::round(d[a] / l);
+    }
+    return d;
+  }
 };
 
 }  // namespace mfdem::dem

@@ -35,7 +35,7 @@ dem::RigidBox sleeper_box(const SectionGeometry& g) {
 }
 
 // The work of lifting the stones by one mean stone size, J: the energy scale of "at rest".
-double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size, const PushStudyConfig&) {
+double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size) {
   double mass = 0.0;
   for (const auto& s : stones) mass += s.mass;
   return mass * kGravity * mean_size;
@@ -66,7 +66,7 @@ Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::
   std::unique_ptr<dem::StateFile> frames;
   if (!stage_directory.empty())
     frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
-  stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size, c),
+  stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
                                    goal.max_time, quiet, frames.get());
   return stage;
 }

@@ -15,21 +15,12 @@ namespace {
 
 constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate printed at the start
 
-// The periodic image of d nearest zero along y.
-dem::Vec3 nearest_image(dem::Vec3 d, const dem::Domain& domain) {
-  if (domain.periodic[1]) {
-    const double l = domain.length().y();
-    d.y() -= l * std::round(d.y() / l);
-  }
-  return d;
-}
-
 NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& c, double u, double velocity,
                              double mean_size, double volume) {
   const auto contacts = sim.contacts();
   double virial = 0.0;
   for (const auto& k : contacts) {
-    const dem::Vec3 branch = nearest_image(sim.bodies().position[k.body_b] - sim.bodies().position[k.body_a], sim.domain());
+    const dem::Vec3 branch = sim.domain().nearest_image(sim.bodies().position[k.body_b] - sim.bodies().position[k.body_a]);
     virial += k.force.dot(branch);
   }
   NetworkSample s;
@@ -58,7 +49,7 @@ void collect_end_state(const dem::Simulation& sim, PushResult& r) {
   r.contact_force_q999 = nearest_rank_quantile(magnitudes, 0.999);
   r.end_position = sim.bodies().position;
   for (std::size_t b = 0; b < r.end_position.size(); ++b)
-    r.displacement.push_back(nearest_image(r.end_position[b] - r.start_position[b], sim.domain()));
+    r.displacement.push_back(sim.domain().nearest_image(r.end_position[b] - r.start_position[b]));
 }
 
 }  // namespace

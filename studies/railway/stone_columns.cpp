@@ -68,11 +68,7 @@ std::vector<DrawnStone> place_in_columns(const PushStudyConfig& c, std::vector<D
   std::vector<double> column_top(columns.size(), 0.0);
   std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), gsl_rng_free);
   gsl_rng_set(rng.get(), static_cast<unsigned long>(c.seed % 4294967291ULL) + 1);
-  const auto separation_y = [&](double a, double b) {
-    double d = a - b;
-    if (g.periodic_along_track) d -= length * std::round(d / length);
-    return d;
-  };
+  const dem::Domain period = section_domain(c, 1.0);  // only its periodic y matters here
   for (std::size_t k = 0; k < stones.size(); ++k) {
     DrawnStone& s = stones[k];
     const std::size_t column = k % columns.size();
@@ -97,7 +93,8 @@ std::vector<DrawnStone> place_in_columns(const PushStudyConfig& c, std::vector<D
           else if (jj < 0 || jj >= ny) continue;
           for (const Placed& o : columns[static_cast<std::size_t>(jj) * nx + ii]) {
             const double reach = s.reach + o.reach + gap;
-            const double ex = x - o.x.x(), ey = separation_y(y, o.x.y()), ez = z - o.x.z();
+            const dem::Vec3 e = period.nearest_image(dem::Vec3(x, y, z) - o.x);
+            const double ex = e.x(), ey = e.y(), ez = e.z();
             const double flat2 = ex * ex + ey * ey;
             if (flat2 + ez * ez >= reach * reach) continue;
             z = o.x.z() + std::sqrt(std::max(0.0, reach * reach - flat2)) + 1e-9;  // just above it

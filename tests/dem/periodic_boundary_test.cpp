@@ -157,3 +157,18 @@ TEST_CASE("a collision across the periodic faces gives the same result as in the
   CHECK(periodic <= 1e-10);
   CHECK(position_difference <= 1e-12);
 }
+
+TEST_CASE("the nearest periodic image of a separation is within half a period", "[dem][periodic]") {
+  // Reference: minimum-image convention; a box 0.6 m periodic along y only. Exact in binary
+  // for these values except the 0.55 case, where round-off of one subtraction is allowed.
+  mfdem::dem::Domain d;
+  d.min = mfdem::dem::Vec3(-1.0, 0.0, 0.0);
+  d.max = mfdem::dem::Vec3(1.0, 0.6, 1.0);
+  d.periodic = {false, true, false};
+  const auto image = d.nearest_image(mfdem::dem::Vec3(1.5, 0.55, -0.9));
+  CHECK(image.x() == 1.5);   // not periodic: unchanged
+  CHECK(image.z() == -0.9);
+  CHECK(image.y() == Approx(-0.05).margin(1e-15));
+  CHECK(d.nearest_image(mfdem::dem::Vec3(0.0, -0.5, 0.0)).y() == Approx(0.1).margin(1e-15));
+  CHECK(d.nearest_image(mfdem::dem::Vec3(0.0, 0.2, 0.0)).y() == 0.2);
+}
