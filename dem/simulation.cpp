@@ -314,6 +314,10 @@ void Simulation::maybe_rebuild() {
 }
 
 void Simulation::rebuild() {
+  // Contacts that opened in this step's drift are released now, while their images are still
+  // those of the old list: the new list may no longer hold them (a skin smaller than a step's
+  // move), and a released spring must be counted, not lost.
+  release_opened_contacts();
   // Wrap bodies that left the periodic box, then rebuild and carry the springs over.
   for (Index b = 0; b < bodies_.size(); ++b) {
     const Vec3 shift = domain_.wrap_shift(bodies_.position[b]);
@@ -323,8 +327,11 @@ void Simulation::rebuild() {
     update_element_positions(b);
   }
   PairList fresh = build_pair_list(elements_, domain_, skin_);
-  std::vector<ContactHistory> history(fresh.size());
   const Index n = fresh.size();
+  std::vector<ContactHistory> history(n);
+  // A carried contact stays active: if it opens at the next step, its spring must still be
+  // released (and its energy counted) and cleared, not kept for a later touch.
+  std::vector<std::uint8_t> active(n, 0);
   const bool had_list = !pairs_.row_start.empty();
   // Images are relative to the positions of this build; a wrapped body shifts its images.
 #pragma omp parallel for schedule(static) if (n > kChunkSize)
@@ -334,6 +341,7 @@ void Simulation::rebuild() {
     for (Index q = pairs_.row_start[i]; q < pairs_.row_start[i + 1]; ++q) {
       if (pairs_.second[q] != j || !pair_active_[q]) continue;
       history[p] = pair_history_[q];
+      active[p] = 1;
       break;
     }
   }
@@ -342,10 +350,22 @@ void Simulation::rebuild() {
   pair_force_.assign(n, Vec3::Zero());
   pair_torque_first_.assign(n, Vec3::Zero());
   pair_torque_second_.assign(n, Vec3::Zero());
-  pair_active_.assign(n, 0);
+  pair_active_ = std::move(active);
   build_position_ = elements_.position;
   ++rebuilds_;
   scan_walls_ = true;
+}
+
+void Simulation::release_opened_contacts() {
+  const Vec3 length = domain_.length();
+  double released = 0.0;  // summed in pair order: the same on any thread count
+  for (Index p = 0; p < pairs_.size(); ++p) {
+    if (!pair_active_[p]) continue;
+    const Vec3 d = separation(p, length);
+    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+    if (d.squaredNorm() >= reach * reach) released += release_pair(p, d);
+  }
+  dissipated_friction_ += released;
 }
 
 // Marks the elements that may touch a plane wall before the next scan. Until the next
@@ -376,6 +396,26 @@ void Simulation::scan_walls() {
   scan_walls_ = false;
 }
 
+// A contact that has just opened (separation d): books the energy left in its tangential and
+// rolling springs as dissipated, clears them and marks the pair inactive.
+double Simulation::release_pair(Index p, const Vec3& d) {
+  const Index i = pairs_.first[p], j = pairs_.second[p];
+  const Index bi = elements_.body[i], bj = elements_.body[j];
+  const double ri = elements_.radius[i], rj = elements_.radius[j];
+  const Vec3 n = d.normalized();
+  const Vec3& wi = bodies_.angular_velocity[bi];
+  const Vec3& wj = bodies_.angular_velocity[bj];
+  const Vec3 v = bodies_.velocity[bj] + wj.cross(elements_.position[j] - bodies_.position[bj] - rj * n) -
+                 bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
+  const Vec3 spin = wj - wi;
+  const double energy = released_spring_energy(materials_.pair(elements_.material[i], elements_.material[j]),
+                                               pair_history_[p], ri * rj / (ri + rj), v - v.dot(n) * n,
+                                               spin - spin.dot(n) * n, dt_);
+  pair_history_[p] = ContactHistory{};
+  pair_active_[p] = 0;
+  return energy;
+}
+
 // One pair's contact for this step: updates its history and activity flag and returns the
 // forces and torques (zero when apart) and the energy it dissipated.
 template <bool kPointBodies>
@@ -395,17 +435,7 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
     return kPointBodies ? Vec3::Zero() : Vec3(elements_.position[e] - bodies_.position[b]);
   };
   if (r2 >= reach * reach) {
-    if (pair_active_[p]) {
-      pair_active_[p] = 0;
-      const Vec3 n = d.normalized();
-      const Vec3 v = bodies_.velocity[bj] + wj.cross(lever(j, bj) - rj * n) - bodies_.velocity[bi] -
-                     wi.cross(lever(i, bi) + ri * n);
-      const Vec3 spin = wj - wi;
-      out.friction = released_spring_energy(
-          materials_.pair(elements_.material[i], elements_.material[j]), pair_history_[p],
-          ri * rj / reach, v - v.dot(n) * n, spin - spin.dot(n) * n, dt);
-      pair_history_[p] = ContactHistory{};
-    }
+    if (pair_active_[p]) out.friction = release_pair(p, d);
     return out;
   }
   pair_active_[p] = 1;

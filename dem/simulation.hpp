@@ -149,6 +149,8 @@ class Simulation {
   void drift_and_kick();
   void maybe_rebuild();
   void rebuild();
+  void release_opened_contacts();
+  double release_pair(Index p, const Vec3& separation);
   void evaluate_pairs();
   void gather_and_kick();
   void check_stability();
