@@ -16,16 +16,13 @@ Needs Debian's python3 (/usr/bin/python3: h5py, numpy). See README.md in this fo
 from __future__ import annotations
 
 import argparse
-import datetime
 import hashlib
-import importlib.util
 import json
 import math
 import os
 import re
 import shlex
 import shutil
-import statistics
 import subprocess
 import sys
 import time
@@ -33,16 +30,19 @@ import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[2]
 
-# The sphere benchmark's helpers (idle wait, measured runs, machine description, mfdem runner,
-# TOML filling), loaded from its script without changing it.
-_SPHERE = HERE.parent / "sphere_bed" / "run_benchmark.py"
-_spec = importlib.util.spec_from_file_location("sphere_bed_benchmark", _SPHERE)
-sb = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(sb)
-BenchmarkError = sb.BenchmarkError
-log, rel, tail = sb.log, sb.rel, sb.tail
+# The helpers shared with the other benchmarks live in ../bench_common.py; this script is run as
+# a file, not as part of a package, so their folder goes on the import path. The same folder
+# makes the sphere benchmark's script importable, for its scene (target b).
+sys.path.insert(0, str(HERE.parent))
+from bench_common import (  # noqa: E402  (needs the path above)
+    BETA, DENSITY, KN, KT, MU, REPO, BenchmarkError, add_machine_options, add_run_options,
+    closing_sections, command_line, contact_law_checks, fill_quick_defaults, fmt_millions, log,
+    loop_steps, max_ranks, mfdem_env, mpi_prefix, mpirun, package_version, parallel_notes,
+    peer_env, provenance_lines, publish_report, rel, repo_path, report_path, require_time_tool,
+    require_values, run_main, run_mfdem, run_peer_timed, set_toml_value, summarise, tail,
+    timestamp, var_args, wait_until_idle)
+from sphere_bed import run_benchmark as sphere_bench  # noqa: E402
 
 try:
     import h5py
@@ -51,13 +51,8 @@ except ImportError as exc:  # the pyenv python3 first on PATH has neither
     sys.exit(f"run_benchmark.py: error: {exc}; run it with /usr/bin/python3 (Debian's, with "
              "python3-h5py and python3-numpy)")
 
-# --- the scene (fixed by the benchmark issue) ----------------------------------------
+# --- the scene (fixed by the benchmark issue; contact law and density in bench_common) ------
 SIZE = 0.045               # m, sieve size d of every stone
-DENSITY = 2800.0           # kg/m^3
-KN = 1.0e7                 # N/m per contact (normal)
-KT = 2.0 / 7.0 * KN        # N/m per contact (tangential)
-MU = 0.5
-BETA = 0.3
 DT = 1.0e-5                # s, timed runs
 SKIN = 0.004               # m, neighbour skin of all three codes in the timed runs
 N_FULL = 5000
@@ -77,8 +72,6 @@ LIG_TAU = 0.02             # s, drag time constant of LIGGGHTS's second settling
 LIG_CHUNK = 4000
 LIG_MAX_CHUNKS = 100
 
-CONTACTS_RE = sb.CONTACTS_RE
-LOOP_RE = sb.LOOP_RE
 CODE_NAMES = {"mfdem": "mfdem", "lammps": "LAMMPS", "liggghts": "LIGGGHTS",
               "sphere": "mfdem spheres"}
 
@@ -128,26 +121,9 @@ def vec(v) -> str:
 
 
 def check_materials(scene: dict, path: Path, local_damping: bool) -> None:
-    series = lambda a, b: a * b / (a + b)
+    """The shared contact law; local damping only where allowed (settling, not timing)."""
+    require_values(path, contact_law_checks(scene))
     bal, wall = scene["materials"]["ballast"], scene["materials"]["wall"]
-    checks = [
-        ("materials.ballast.density", bal["density"], DENSITY),
-        ("series(ballast, ballast) normal_stiffness",
-         series(bal["normal_stiffness"], bal["normal_stiffness"]), KN),
-        ("series(ballast, ballast) shear_stiffness",
-         series(bal["shear_stiffness"], bal["shear_stiffness"]), KT),
-        ("series(ballast, wall) normal_stiffness",
-         series(bal["normal_stiffness"], wall["normal_stiffness"]), KN),
-        ("series(ballast, wall) shear_stiffness",
-         series(bal["shear_stiffness"], wall["shear_stiffness"]), KT),
-        ("materials.ballast.friction", bal["friction"], MU),
-        ("materials.wall.friction", wall["friction"], MU),
-        ("materials.ballast.damping_ratio", bal["damping_ratio"], BETA),
-        ("materials.wall.damping_ratio", wall["damping_ratio"], BETA),
-    ]
-    for name, got, want in checks:
-        if not math.isclose(got, want, rel_tol=1e-12):
-            raise BenchmarkError(f"{rel(path)}: {name} is {got}, the benchmark expects {want}")
     if not local_damping and (bal.get("local_damping", 0.0) or wall.get("local_damping", 0.0)):
         raise BenchmarkError(f"{rel(path)}: the timed scene must not have local_damping")
 
@@ -195,7 +171,7 @@ def settle_mfdem(exe: str, n: int, seed: int, workdir: Path, templates: list[dic
                           ("stone_group", "max", vec([1.0, 1.0, ztop * 1.0001])),
                           ("stone_group", "count", str(n)),
                           ("wall", "max", vec([1.0, 1.0, zbox]))]:
-        text = sb.set_toml_value(text, sec, key, lit)
+        text = set_toml_value(text, sec, key, lit)
     header = f"# GENERATED by {rel(Path(__file__))} from settle.toml: {n} clumps, seed {seed}\n"
     stages = []
     frac = 1.0
@@ -211,7 +187,7 @@ def settle_mfdem(exe: str, n: int, seed: int, workdir: Path, templates: list[dic
                                   f"path = \"stage{k - 1:02d}/state.h5\"   # the previous stage\n"
                                   "frame = -1\n\n")
             for key in ("duration", "output_interval"):
-                later = sb.set_toml_value(later, "simulation", key, repr(STAGE_SECONDS))
+                later = set_toml_value(later, "simulation", key, repr(STAGE_SECONDS))
             scene_text = header.replace("settle.toml:", f"settle.toml, stage {k}:") + later
         tomllib.loads(scene_text)
         if (record.exists() and scene.exists() and scene.read_text() == scene_text
@@ -223,10 +199,9 @@ def settle_mfdem(exe: str, n: int, seed: int, workdir: Path, templates: list[dic
             cmd = [exe, "run", str(scene), "--out", str(out), "--threads", str(threads), "--quiet"]
             log(f"  mfdem settling stage {k} ({'pour' if k == 0 else 'continue'}, "
                 f"{fall if k == 0 else STAGE_SECONDS:.2f} s simulated) ...")
-            env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-            env.setdefault("OMP_WAIT_POLICY", "active")  # as the sphere benchmark
             t0 = time.monotonic()
-            proc = subprocess.run(cmd, cwd=REPO, env=env, capture_output=True, text=True)
+            proc = subprocess.run(cmd, cwd=REPO, env=mfdem_env(threads), capture_output=True,
+                                  text=True)
             seconds = time.monotonic() - t0
             (sdir / f"stage{k:02d}.out").write_text(proc.stdout + proc.stderr)
             summary_path = out / "summary.toml"
@@ -263,8 +238,7 @@ def settle_mfdem(exe: str, n: int, seed: int, workdir: Path, templates: list[dic
             "time_step": stages[0]["time_step"], "critical_time_step": stages[0]["critical_time_step"],
             "local_damping": alpha,
             "wall_seconds": sum(s.get("process_seconds", s["wall_seconds"]) for s in stages),
-            "state": rel(final), "lattice_top": ztop, "box_top": zbox,
-            "date": datetime.datetime.now().isoformat(timespec="seconds")}
+            "state": rel(final), "lattice_top": ztop, "box_top": zbox, "date": timestamp()}
     (workdir / "mfdem_settle.json").write_text(json.dumps(meta, indent=2) + "\n")
     log(f"  mfdem bed settled: {meta['steps']} steps ({meta['simulated_seconds']:.2f} s simulated, "
         f"dt {meta['time_step']:.3g} s) in {meta['wall_seconds']:.0f} s wall on {threads} thread(s)")
@@ -365,7 +339,7 @@ def write_timed_scene(path: Path, state: Path, steps: int, zbox: float) -> None:
                           ("domain", "max", vec([1.0, 1.0, zbox])),
                           ("wall", "max", vec([1.0, 1.0, zbox])),
                           ("state_file", "path", json.dumps(os.path.relpath(state, path.parent)))]:
-        text = sb.set_toml_value(text, sec, key, lit)
+        text = set_toml_value(text, sec, key, lit)
     path.write_text(f"# GENERATED by {rel(Path(__file__))} from bed.toml: {steps} steps\n" + text)
     got = tomllib.loads(path.read_text())
     assert (path.parent / got["state_file"][0]["path"]).resolve() == state.resolve()
@@ -430,14 +404,12 @@ def settle_liggghts(exe: str, n: int, seed: int, workdir: Path, templates: list[
            "fallsteps": fall_steps, "gvisc": mean_mass / (6.0 * LIG_TAU), "chunk": LIG_CHUNK,
            "maxchunks": LIG_MAX_CHUNKS, "vtol": VTOL, "movefrac": MOVE_FRAC}
     # not "-screen none": LIGGGHTS 3.8 then crashes in Region::reset_random (fprintf to screen)
-    cmd = [exe, "-in", str(HERE / "in.settle.liggghts"), "-log", "settle.log"]
-    for k, v in var.items():
-        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
-    (ldir / "settle.cmd").write_text(shlex.join(sb.mpi_prefix(ranks) + cmd) + "\n")
+    cmd = [exe, "-in", str(HERE / "in.settle.liggghts"), "-log", "settle.log"] + var_args(var)
+    (ldir / "settle.cmd").write_text(shlex.join(mpi_prefix(ranks) + cmd) + "\n")
     log(f"  LIGGGHTS settling its own bed of {n} clumps on {ranks} rank(s) "
         f"(insertion region top {ztop:.2f} m, dt {LIG_SETTLE_DT:g} s) ...")
     t0 = time.monotonic()
-    proc = subprocess.run(sb.mpi_prefix(ranks) + cmd, cwd=ldir, env=sb.peer_env(),
+    proc = subprocess.run(mpi_prefix(ranks) + cmd, cwd=ldir, env=peer_env(),
                           capture_output=True, text=True)
     seconds = time.monotonic() - t0
     logtext = ((ldir / "settle.log").read_text(errors="replace")
@@ -451,14 +423,13 @@ def settle_liggghts(exe: str, n: int, seed: int, workdir: Path, templates: list[
     if not inserted or int(inserted.group(1)) != pebbles:
         raise BenchmarkError(f"LIGGGHTS inserted {inserted.group(1) if inserted else '?'} pebbles, "
                              f"expected about {pebbles}; see {rel(ldir / 'settle.log')}")
-    steps = sum(int(m.group(3)) for m in LOOP_RE.finditer(logtext))
+    steps = loop_steps(logtext)
     meta = {"clumps": n, "pebbles": int(inserted.group(1)), "seed": seed,
             "inputs_hash": liggghts_settle_hash(n, seed, counts), "ranks": ranks, "steps": steps,
             "time_step": LIG_SETTLE_DT, "simulated_seconds": steps * LIG_SETTLE_DT,
             "wall_seconds": seconds, "moving_fraction": float(done.group(1)),
             "top": float(done.group(2)), "drag_tau": LIG_TAU,
-            "liggghts": sb.package_version("liggghts"),
-            "date": datetime.datetime.now().isoformat(timespec="seconds")}
+            "liggghts": package_version("liggghts"), "date": timestamp()}
     (workdir / "liggghts_settle.json").write_text(json.dumps(meta, indent=2) + "\n")
     log(f"  LIGGGHTS bed settled: {steps} steps ({steps * LIG_SETTLE_DT:.2f} s simulated) in "
         f"{seconds:.0f} s wall; {float(done.group(1)):.2%} of the pebbles still move")
@@ -476,43 +447,10 @@ def run_peer(code: str, exe: str, ranks: int, workdir: Path, steps: int, pebbles
     else:
         script = HERE / "in.bench.liggghts"
         var.update(restartfile=str(workdir / "liggghts_settle" / "bed.restart"))
-    cmd = [exe, "-in", str(script), "-log", f"{tag}.log"]
-    if code == "lammps":
-        cmd.append("-nocite")
-    for k, v in var.items():
-        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
-    output, measured = sb.run_measured(cmd, ranks, rundir, tag, sb.peer_env())
-    loop = LOOP_RE.search(output)
-    contacts = CONTACTS_RE.search(output)
-    if not loop or not contacts:
-        raise BenchmarkError(f"{tag}: no 'Loop time' or contacts line in the output\n{tail(output)}")
-    seconds, procs, got_steps, atoms = (float(loop.group(1)), int(loop.group(2)),
-                                        int(loop.group(3)), int(loop.group(4)))
-    if procs != ranks or got_steps != steps or atoms != pebbles:
-        raise BenchmarkError(f"{tag}: ran {got_steps} steps with {atoms} atoms on {procs} procs, "
-                             f"expected {steps}, {pebbles}, {ranks}")
-    coordination, wall = float(contacts.group(1)), float(contacts.group(2))
-    return {"seconds": seconds, "sps": pebbles * steps / seconds,
-            "contacts": coordination / 2.0 + wall, **measured}
-
-
-def summarise(samples: list[dict]) -> dict:
-    sps = [s["sps"] for s in samples]
-    return {"median": statistics.median(sps), "min": min(sps), "max": max(sps),
-            "contacts": statistics.median(s["contacts"] for s in samples),
-            "rss": max(s["rss"] for s in samples),
-            "rss_self": max((s.get("rss_self", 0) for s in samples), default=0),
-            "foreign": max(s["foreign"] for s in samples),
-            "foreign_median": statistics.median(s["foreign"] for s in samples),
-            "cpu_median": statistics.median(s["sps_cpu"] for s in samples),
-            "repeats": len(samples)}
+    return run_peer_timed(code, exe, script, var, ranks, rundir, tag, steps, pebbles)
 
 
 # --- report ---------------------------------------------------------------------------------
-def fmt_m(x: float) -> str:
-    return f"{x / 1e6:.2f}"
-
-
 def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> str:
     n, pebbles, steps = ctx["clumps"], ctx["pebbles"], ctx["steps"]
     geo, mset, lset = ctx["geometry"], ctx["mfdem_settle"], ctx.get("liggghts_settle")
@@ -524,8 +462,7 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
     beta_lo = gn_pp / 2.0 * math.sqrt(geo["min_mass"] / 2.0 / KN)
     beta_hi = gn_pp / 2.0 * math.sqrt(geo["max_mass"] / 2.0 / KN)
     out = ["# Clump-bed benchmark: mfdem, LAMMPS (fix rigid/small) and LIGGGHTS (fix multisphere)",
-           "", f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by", "", "```",
-           "/usr/bin/python3 " + shlex.join([rel(Path(sys.argv[0]))] + sys.argv[1:]), "```", ""]
+           ""] + provenance_lines("/usr/bin/python3")
     out += ["## Scene", "",
             f"{n} rigid clumps of 6 pebbles ({pebbles} pebbles): the 12 templates of the shipped "
             f"shape library (`studies/shapes/library/`) at one sieve size d = {SIZE * 1000:g} mm, "
@@ -598,10 +535,11 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
         speedup = f"{s['median'] / one['median']:.2f}" if one and procs != 1 else "-"
         mf = results.get(("mfdem", procs))
         ratio = "-" if code in ("mfdem", "sphere") or mf is None else f"{mf['median'] / s['median']:.2f}"
-        clump = "-" if code == "sphere" else fmt_m(s["median"] / per_clump[code])
-        cpu = fmt_m(s["cpu_median"]) if procs == 1 else "-"
-        out.append(f"| {CODE_NAMES[code]} | {procs} | {fmt_m(s['median'])} | {fmt_m(s['min'])} - "
-                   f"{fmt_m(s['max'])} | {clump} | {speedup} | {s['contacts']:.3f} | "
+        clump = "-" if code == "sphere" else fmt_millions(s["median"] / per_clump[code])
+        cpu = fmt_millions(s["cpu_median"]) if procs == 1 else "-"
+        out.append(f"| {CODE_NAMES[code]} | {procs} | {fmt_millions(s['median'])} | "
+                   f"{fmt_millions(s['min'])} - {fmt_millions(s['max'])} | {clump} | {speedup} | "
+                   f"{s['contacts']:.3f} | "
                    f"{s['rss'] / 1e6:.1f} | {s['rss'] / elements[code]:.0f} | {ratio} | "
                    f"{s['foreign']:.2f} ({s['foreign_median']:.2f}) | {cpu} |")
     out.append("")
@@ -614,8 +552,8 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
         r = mf1["median"] / peers1[best]["median"]
         r_cpu = mf1["cpu_median"] / peers1[best]["cpu_median"]
         out.append(f"- (a) mfdem at least 1.5x the faster peer per pebble-step on 1 thread: mfdem "
-                   f"{fmt_m(mf1['median'])} M/s, the faster peer is {CODE_NAMES[best]} with "
-                   f"{fmt_m(peers1[best]['median'])} M/s: ratio {r:.2f} -> "
+                   f"{fmt_millions(mf1['median'])} M/s, the faster peer is {CODE_NAMES[best]} with "
+                   f"{fmt_millions(peers1[best]['median'])} M/s: ratio {r:.2f} -> "
                    f"**{'met' if r >= 1.5 else 'not met'}** (per CPU-second: {r_cpu:.2f}).")
     else:
         out.append("- (a) not evaluated (mfdem or both peers missing).")
@@ -624,8 +562,8 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
         if mf and sp:
             cost = sp["median"] / mf["median"]
             out.append(f"- (b) {procs} thread(s): an mfdem clump pebble costs {cost:.2f}x a free "
-                       f"sphere ({fmt_m(mf['median'])} M pebble-steps/s against "
-                       f"{fmt_m(sp['median'])} M sphere-steps/s; contacts per element "
+                       f"sphere ({fmt_millions(mf['median'])} M pebble-steps/s against "
+                       f"{fmt_millions(sp['median'])} M sphere-steps/s; contacts per element "
                        f"{mf['contacts']:.2f} against {sp['contacts']:.2f}) -> "
                        f"**{'met' if cost <= 1.5 else 'not met'}** (target at most 1.5x).")
     if not any(("sphere", p) in results for p in (1, 2)):
@@ -640,9 +578,7 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
         out += ["mfdem's own peak_rss_bytes (summary.toml): " + ", ".join(
             f"{CODE_NAMES[c]} {p}: {results[(c, p)]['rss_self'] / 1e6:.1f} MB"
             for (c, p) in configs if c in ("mfdem", "sphere") and (c, p) in results), ""]
-    out += ["## Machine", ""] + sb.machine_description(ctx.get("mfdem_path")) + [""]
-    if notes:
-        out += ["## Notes", ""] + [f"- {x}" for x in notes] + [""]
+    out += closing_sections(ctx.get("mfdem_path"), notes)
     out += ["Inputs: `studies/benchmarks/clump_bed/` (settle.toml, bed.toml, in.bench.lmp, "
             "in.settle.liggghts, in.bench.liggghts); method in its README.md.", ""]
     return "\n".join(out)
@@ -651,15 +587,7 @@ def report(args, ctx: dict, results: dict, configs: list, notes: list[str]) -> s
 # --- main -----------------------------------------------------------------------------------
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--repeats", type=int, default=None,
-                    help="timed repeats per configuration, median reported (default 3; 1 with --quick)")
-    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2],
-                    help="mfdem OpenMP threads and peer MPI ranks to time (default 1 2)")
-    ap.add_argument("--steps", type=int, default=None,
-                    help="timed steps (default 5000; 1000 with --quick)")
-    ap.add_argument("--mfdem", default="build/studies/mfdem", help="the mfdem executable")
-    ap.add_argument("--lammps", default="lmp", help="the LAMMPS executable")
-    ap.add_argument("--liggghts", default="liggghts", help="the LIGGGHTS executable")
+    add_run_options(ap)
     ap.add_argument("--codes", nargs="+", default=["mfdem", "lammps", "liggghts", "sphere"],
                     choices=["mfdem", "lammps", "liggghts", "sphere"],
                     help="what to time (default all; 'sphere' = the sphere benchmark's mfdem scene)")
@@ -673,28 +601,21 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=12345, help="seed of the stones")
     ap.add_argument("--settle-threads", type=int, default=2,
                     help="threads/ranks for settling (default 2)")
-    ap.add_argument("--wait-idle", type=float, default=120.0, metavar="SECONDS",
-                    help="before each timed run, wait up to this long for other processes to "
-                    "leave the CPUs idle (default 120; 0 = do not wait)")
-    ap.add_argument("--scratch", default="scratch/benchmarks/clump_bed",
-                    help="cache and run folder (default scratch/benchmarks/clump_bed)")
+    add_machine_options(ap, "clump_bed")
     args = ap.parse_args()
 
     n = N_QUICK if args.quick else N_FULL
-    steps = args.steps if args.steps is not None else (1000 if args.quick else 5000)
-    args.repeats = args.repeats if args.repeats is not None else (1 if args.quick else 3)
-    resolve = lambda p: Path(p) if Path(p).is_absolute() else REPO / p
-    scratch = resolve(args.scratch)
-    out_path = resolve(args.out) if args.out else (
-        scratch / "clump_bed_quick.md" if args.quick else REPO / "results/benchmarks/clump_bed.md")
+    fill_quick_defaults(args)
+    steps = args.steps
+    scratch = repo_path(args.scratch)
+    out_path = report_path(args, scratch, "clump_bed")
     workdir = scratch / f"n{n}_seed{args.seed}"
     rundir = workdir / "runs"
     rundir.mkdir(parents=True, exist_ok=True)
     notes: list[str] = []
 
-    if not Path("/usr/bin/time").exists():
-        raise BenchmarkError("/usr/bin/time is needed to measure peak memory (Debian package 'time')")
-    mfdem_path = resolve(args.mfdem)
+    require_time_tool()
+    mfdem_path = repo_path(args.mfdem)
     if not (mfdem_path.is_file() and os.access(mfdem_path, os.X_OK)):
         raise BenchmarkError(f"mfdem executable {rel(mfdem_path)} not found; build it first "
                              "(cmake --build build); it also settles the bed")
@@ -706,10 +627,7 @@ def main() -> int:
                 raise BenchmarkError(f"{code} executable '{name}' not found (Debian package "
                                      f"'{code}'), or leave it out with --codes")
     threads = sorted(set(args.threads))
-    if max(threads) > 1 and sb.mpirun() is None:
-        notes.append("mpirun not found: LAMMPS and LIGGGHTS ran as 1 process only.")
-    if max(threads) > sb.max_ranks():
-        notes.append(f"more threads/ranks requested than the {sb.max_ranks()} logical CPUs.")
+    notes += parallel_notes(threads)
 
     templates = load_library()
     zbox = box_top(templates, n)
@@ -744,8 +662,8 @@ def main() -> int:
         lmeta = workdir / "liggghts_settle.json"
         if args.resettle or not lmeta.exists() or not (workdir / "liggghts_settle/bed.restart").exists():
             lset = settle_liggghts(exes["liggghts"], n, args.seed, workdir, templates, counts,
-                                   geo["mean_mass"], min(args.settle_threads, sb.max_ranks())
-                                   if sb.mpirun() else 1)
+                                   geo["mean_mass"], min(args.settle_threads, max_ranks())
+                                   if mpirun() else 1)
         else:
             lset = json.loads(lmeta.read_text())
             log(f"using LIGGGHTS's cached bed (settled {lset['date']}; --resettle to redo)")
@@ -758,9 +676,9 @@ def main() -> int:
     if "sphere" in args.codes:
         bed_txt = SPHERE_CACHE / "bed.txt"
         if bed_txt.exists():
-            template, _ = sb.load_template()
+            template, _ = sphere_bench.load_template()
             sphere_scene = workdir / "sphere_bed.toml"
-            sb.write_scene(template, sphere_scene, bed_txt, steps, 0.0)
+            sphere_bench.write_scene(template, sphere_scene, bed_txt, steps, 0.0)
         else:
             ctx["sphere_note"] = (f"the sphere benchmark's cached bed {rel(bed_txt)} does not exist "
                                   "(run studies/benchmarks/sphere_bed/run_benchmark.py first)")
@@ -776,7 +694,7 @@ def main() -> int:
         if code not in args.codes or (code == "sphere" and sphere_scene is None):
             continue
         for procs in threads:
-            if code in ("lammps", "liggghts") and procs > 1 and sb.mpirun() is None:
+            if code in ("lammps", "liggghts") and procs > 1 and mpirun() is None:
                 continue
             configs.append((code, procs))
     samples: dict[tuple, list[dict]] = {c: [] for c in configs}
@@ -785,13 +703,13 @@ def main() -> int:
         for code, procs in configs:
             k += 1
             if args.wait_idle > 0:
-                sb.wait_until_idle(args.wait_idle)
+                wait_until_idle(args.wait_idle)
             tag = f"{code}_p{procs}_rep{rep}"
             if code == "mfdem":
-                res = sb.run_mfdem(exes["mfdem"], procs, scene, steps, pebbles, rundir, tag)
+                res = run_mfdem(exes["mfdem"], procs, scene, steps, pebbles, rundir, tag)
                 elements = pebbles
             elif code == "sphere":
-                res = sb.run_mfdem(exes["sphere"], procs, sphere_scene, steps, SPHERE_N, rundir, tag)
+                res = run_mfdem(exes["sphere"], procs, sphere_scene, steps, SPHERE_N, rundir, tag)
                 elements = SPHERE_N
             else:
                 elements = lset["pebbles"] if code == "liggghts" else pebbles
@@ -818,22 +736,14 @@ def main() -> int:
         notes.append(f"contacts per pebble differ by more than 5 % between mfdem "
                      f"({mf['contacts']:.3f}) and LAMMPS ({lm['contacts']:.3f}) on the same bed.")
     text = report(args, ctx, results, configs, notes)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    out_path.write_text(text)
+    publish_report(text, out_path)
     (workdir / "results.json").write_text(json.dumps(
-        {"command": "/usr/bin/python3 " + shlex.join([rel(Path(sys.argv[0]))] + sys.argv[1:]),
+        {"command": command_line("/usr/bin/python3"),
          "clumps": n, "pebbles": pebbles, "steps": steps, "geometry": geo, "counts": counts,
          "mfdem_settle": mset, "liggghts_settle": lset,
          "samples": {f"{c}|{p}": s for (c, p), s in samples.items()}}, indent=2) + "\n")
-    log("")
-    log(text)
-    log(f"report written to {rel(out_path)}")
     return 0
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main())
-    except BenchmarkError as e:
-        print(f"run_benchmark.py: error: {e}", file=sys.stderr)
-        sys.exit(1)
+    run_main(main)

@@ -19,30 +19,30 @@ import hashlib
 import json
 import math
 import os
-import platform
 import random
 import re
-import resource
-import shlex
 import shutil
-import statistics
 import subprocess
 import sys
-import time
 import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[2]
 
-# --- the scene (fixed by the benchmark issue) ----------------------------------------
+# The helpers shared with the other benchmarks live in ../bench_common.py; this script is run as
+# a file, not as part of a package, so their folder goes on the import path.
+sys.path.insert(0, str(HERE.parent))
+from bench_common import (  # noqa: E402  (needs the path above)
+    BETA, DENSITY, KN, KT, MU, BenchmarkError, add_machine_options, add_run_options,
+    closing_sections, contact_law_checks, fill_quick_defaults, fmt_millions, log, loop_steps,
+    max_ranks, mpi_prefix, mpirun, package_version, parallel_notes, peer_env, provenance_lines,
+    publish_report, rel, repo_path, report_path, require_time_tool, require_values, run_main,
+    run_mfdem, run_peer_timed, set_toml_value, summarise, tail, timestamp, var_args,
+    wait_until_idle)
+
+# --- the scene (fixed by the benchmark issue; contact law and density in bench_common) ------
 DIAMETER = 0.04            # m
 RADIUS = DIAMETER / 2
-DENSITY = 2800.0           # kg/m^3
-KN = 1.0e7                 # N/m per contact (normal)
-KT = 2.0 / 7.0 * KN        # N/m per contact (tangential)
-MU = 0.5                   # Coulomb friction
-BETA = 0.3                 # normal viscous damping, fraction of critical
 MU_R = 0.3                 # rolling friction of the rolling-resistance variant
 DT = 1.0e-5                # s
 SKIN = 0.1 * DIAMETER      # m, neighbour skin of the peers
@@ -65,27 +65,6 @@ LATTICE_JITTER = 0.0015    # m, < (spacing - d) / 2 so that no two spheres overl
 INITIAL_SPEED = 0.05       # m/s, bound of the uniform random velocity components
 
 DISTURBED = 0.1           # cores used by other processes above which a timing is disturbed
-LOOP_RE = re.compile(
-    r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-CONTACTS_RE = re.compile(
-    r"BENCH_CONTACTS_PER_SPHERE\s+([0-9.eE+-]+) WALL_CONTACTS_PER_SPHERE\s+([0-9.eE+-]+)")
-MFDEM_KEYS = ("steps", "elements", "wall_seconds", "element_steps_per_second",
-              "contacts_per_element", "peak_rss_bytes")
-
-
-class BenchmarkError(RuntimeError):
-    pass
-
-
-def log(msg: str) -> None:
-    print(msg, flush=True)
-
-
-def rel(p: Path) -> str:
-    try:
-        return str(p.resolve().relative_to(REPO))
-    except ValueError:
-        return str(p)
 
 
 # --- scene template --------------------------------------------------------------------
@@ -93,53 +72,14 @@ def load_template() -> tuple[str, dict]:
     path = HERE / "bed.toml"
     text = path.read_text()
     scene = tomllib.loads(text)
-    series = lambda a, b: a * b / (a + b)
-    bal, wall = scene["materials"]["ballast"], scene["materials"]["wall"]
-    checks = [
-        ("simulation.time_step", scene["simulation"]["time_step"], DT),
-        ("materials.ballast.density", bal["density"], DENSITY),
-        ("series(ballast, ballast) normal_stiffness",
-         series(bal["normal_stiffness"], bal["normal_stiffness"]), KN),
-        ("series(ballast, ballast) shear_stiffness",
-         series(bal["shear_stiffness"], bal["shear_stiffness"]), KT),
-        ("series(ballast, wall) normal_stiffness",
-         series(bal["normal_stiffness"], wall["normal_stiffness"]), KN),
-        ("series(ballast, wall) shear_stiffness",
-         series(bal["shear_stiffness"], wall["shear_stiffness"]), KT),
-        ("materials.ballast.friction", bal["friction"], MU),
-        ("materials.wall.friction", wall["friction"], MU),
-        ("materials.ballast.damping_ratio", bal["damping_ratio"], BETA),
-        ("materials.wall.damping_ratio", wall["damping_ratio"], BETA),
-    ]
-    for name, got, want in checks:
-        if not math.isclose(got, want, rel_tol=1e-12):
-            raise BenchmarkError(f"{rel(path)}: {name} is {got}, the benchmark expects {want}")
+    require_values(path, [("simulation.time_step", scene["simulation"]["time_step"], DT)]
+                   + contact_law_checks(scene))
     box = scene["wall"][0]
     if box.get("type") != "box" or box["min"][:2] != [0.0, 0.0] or box["max"][:2] != [1.0, 1.0] \
             or box["min"][2] != 0.0 or not box.get("open_top"):
         raise BenchmarkError(f"{rel(path)}: [[wall]] must be the open-top box "
                              "[0,0,0]..[1,1,top] that the peers' inputs use")
     return text, scene
-
-
-def set_toml_value(text: str, section: str, key: str, literal: str,
-                   comment: str | None = None) -> str:
-    """Replace `key = ...` in table `section` (first [[section]] for arrays), keeping comments."""
-    out, current, done = [], None, False
-    for line in text.splitlines(keepends=True):
-        m = re.match(r"\s*\[\[?\s*([^\]]+?)\s*\]\]?", line)
-        if m:
-            current = m.group(1)
-        elif not done and current == section:
-            km = re.match(rf"(\s*{re.escape(key)}\s*=\s*)([^#\n]*?)(\s*(#.*)?)$", line.rstrip("\n"))
-            if km:
-                rest = km.group(3) if comment is None else f"  # {comment}"
-                line = km.group(1) + literal + rest + "\n"
-                done = True
-        out.append(line)
-    if not done:
-        raise BenchmarkError(f"bed.toml: no key {key} in [{section}]")
-    return "".join(out)
 
 
 def write_scene(template: str, path: Path, bed: Path, steps: int, mu_r: float) -> None:
@@ -272,9 +212,7 @@ def settle(workdir: Path, n: int, seed: int, ranks: int, lmp: str) -> dict:
         "seed": args_seed_langevin(seed),
     }
     cmd = [lmp, "-in", str(HERE / "in.settle.lmp"), "-log", "settle.log", "-screen", "none",
-           "-nocite"]
-    for k, v in var.items():
-        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
+           "-nocite"] + var_args(var)
     log(f"settling {n} spheres with LAMMPS on {ranks} rank(s) (initial lattice top "
         f"{z_init_top:.2f} m, dt {SETTLE_DT} s) ...")
     t0 = datetime.datetime.now()
@@ -285,7 +223,7 @@ def settle(workdir: Path, n: int, seed: int, ranks: int, lmp: str) -> dict:
     if proc.returncode != 0 or "SETTLE_DONE" not in logtext:
         raise BenchmarkError(f"LAMMPS settling failed (exit {proc.returncode}); see "
                              f"{rel(workdir / 'settle.log')}\n{tail(logtext + proc.stderr)}")
-    steps_total = sum(int(m.group(3)) for m in LOOP_RE.finditer(logtext))
+    steps_total = loop_steps(logtext)
     done = re.search(r"SETTLE_DONE energy_per_sphere\s+([0-9.eE+-]+) moving_fraction\s+([0-9.eE+-]+)", logtext)
     energy, moving = float(done.group(1)), float(done.group(2))
     rows = []
@@ -314,7 +252,7 @@ def settle(workdir: Path, n: int, seed: int, ranks: int, lmp: str) -> dict:
         "final_energy_per_sphere": energy, "final_moving_fraction": moving,
         "moving_speed": SETTLE_VTOL, "allowed_moving_fraction": SETTLE_MOVE_FRAC,
         "lammps": package_version("lammps"),
-        "date": datetime.datetime.now().isoformat(timespec="seconds"),
+        "date": timestamp(),
     }
     (workdir / "settle.json").write_text(json.dumps(meta, indent=2) + "\n")
     log(f"settled in {seconds:.0f} s wall, {steps_total} steps "
@@ -348,108 +286,6 @@ def write_peer_data(path: Path, bed, domain_min, domain_max) -> None:
 
 
 # --- running ---------------------------------------------------------------------------
-def max_ranks() -> int:
-    return os.cpu_count() or 1
-
-
-def mpirun() -> str | None:
-    return shutil.which("mpirun")
-
-
-def mpi_prefix(ranks: int) -> list[str]:
-    if ranks <= 1:
-        return []
-    cmd = [mpirun(), "-np", str(ranks)]
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        cmd.append("--allow-run-as-root")
-    return cmd
-
-
-def peer_env() -> dict:
-    env = dict(os.environ)
-    env["OMP_NUM_THREADS"] = "1"
-    return env
-
-
-def tail(text: str, lines: int = 25) -> str:
-    return "\n".join(text.strip().splitlines()[-lines:])
-
-
-def cpu_ticks() -> tuple[int, int]:
-    """(busy, total) clock ticks of all CPUs since boot, from /proc/stat."""
-    try:
-        fields = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:9]]
-    except (OSError, ValueError):
-        return 0, 0
-    user, nice, system, idle, iowait, irq, softirq, steal = fields
-    return user + nice + system + irq + softirq + steal, sum(fields)
-
-
-CLK_TCK = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
-
-
-def busy_cores(seconds: float) -> float:
-    """CPU cores kept busy by all processes over the next `seconds`."""
-    b0, _ = cpu_ticks()
-    time.sleep(seconds)
-    b1, _ = cpu_ticks()
-    return (b1 - b0) / CLK_TCK / seconds
-
-
-def wait_until_idle(max_wait: float, threshold: float = 0.15) -> float:
-    """Waits (at most max_wait s) until other processes use less than `threshold` cores;
-    returns the last measured load in cores."""
-    deadline = time.monotonic() + max_wait
-    load = busy_cores(1.0)
-    announced = False
-    while load > threshold and time.monotonic() < deadline:
-        if not announced:
-            log(f"  machine busy ({load:.2f} cores in use by other processes); waiting up to "
-                f"{max_wait:.0f} s for it to calm down ...")
-            announced = True
-        load = busy_cores(2.0)
-    return load
-
-
-def run_measured(cmd: list[str], ranks: int, cwd: Path, tag: str, env: dict) -> tuple[str, dict]:
-    """Runs cmd (under mpirun for ranks > 1), each process wrapped by /usr/bin/time -v.
-    Returns stdout + stderr and {rss: summed per-process maximum resident set size in bytes,
-    foreign: average CPU cores used by other processes during the run}."""
-    timefile = cwd / f"{tag}.time"
-    for old in cwd.glob(f"{tag}.time.*"):
-        old.unlink()
-    wrapper = ["sh", "-c",
-               'exec /usr/bin/time -v -o "$0.${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}" "$@"',
-               str(timefile)]
-    busy0, _ = cpu_ticks()
-    usage0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.monotonic()
-    proc = subprocess.run(mpi_prefix(ranks) + wrapper + cmd, cwd=cwd, env=env,
-                          capture_output=True, text=True)
-    wall = time.monotonic() - t0
-    usage1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    busy1, _ = cpu_ticks()
-    # CPU of everything started here (mpirun, the ranks, the time wrappers)
-    own_cpu = (usage1.ru_utime - usage0.ru_utime) + (usage1.ru_stime - usage0.ru_stime)
-    output = proc.stdout + proc.stderr
-    (cwd / f"{tag}.out").write_text(output)
-    if proc.returncode != 0:
-        raise BenchmarkError(f"{tag} failed (exit {proc.returncode}): {shlex.join(cmd)}\n"
-                             f"{tail(output)}")
-    rss = 0
-    files = sorted(cwd.glob(f"{tag}.time.*"))
-    if len(files) != ranks:
-        raise BenchmarkError(f"{tag}: expected {ranks} /usr/bin/time reports, found {len(files)}")
-    for tf in files:
-        text = tf.read_text()
-        m = re.search(r"Maximum resident set size \(kbytes\):\s*(\d+)", text)
-        if not m:
-            raise BenchmarkError(f"{tag}: no maximum resident set size in {tf}")
-        rss += int(m.group(1)) * 1024
-    foreign = max(0.0, (busy1 - busy0) / CLK_TCK - own_cpu) / wall if wall > 0 else 0.0
-    return output, {"rss": rss, "foreign": foreign, "cpu_seconds": own_cpu}
-
-
 def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: int, n: int,
              rundir: Path, tag: str) -> dict:
     script = HERE / ("in.bench.lmp" if code == "lammps" else "in.bench.liggghts")
@@ -457,56 +293,7 @@ def run_peer(code: str, exe: str, ranks: int, rolling: bool, data: Path, steps: 
            "gn_pp": GAMMA_PP, "gn_pw": GAMMA_PW, "mu": MU, "skin": SKIN, "radius": RADIUS}
     if code == "liggghts":
         var.update(mur=MU_R, rolling=int(rolling))
-    cmd = [exe, "-in", str(script), "-log", f"{tag}.log"]
-    if code == "lammps":
-        cmd.append("-nocite")
-    for k, v in var.items():
-        cmd += ["-var", k, repr(v) if isinstance(v, float) else str(v)]
-    output, measured = run_measured(cmd, ranks, rundir, tag, peer_env())
-    loop = LOOP_RE.search(output)
-    contacts = CONTACTS_RE.search(output)
-    if not loop or not contacts:
-        raise BenchmarkError(f"{tag}: no 'Loop time' or contacts line in the output\n{tail(output)}")
-    seconds, procs, got_steps, atoms = (float(loop.group(1)), int(loop.group(2)),
-                                        int(loop.group(3)), int(loop.group(4)))
-    if procs != ranks or got_steps != steps or atoms != n:
-        raise BenchmarkError(f"{tag}: ran {got_steps} steps with {atoms} atoms on {procs} procs, "
-                             f"expected {steps}, {n}, {ranks}")
-    coordination, wall = float(contacts.group(1)), float(contacts.group(2))
-    return {"seconds": seconds, "sps": n * steps / seconds,
-            "contacts": coordination / 2.0 + wall, "coordination": coordination, **measured}
-
-
-def run_mfdem(exe: str, threads: int, scene: Path, steps: int, n: int, rundir: Path,
-              tag: str) -> dict:
-    out = rundir / tag
-    if out.exists():
-        shutil.rmtree(out)
-    env = dict(os.environ)
-    env["OMP_NUM_THREADS"] = str(threads)
-    # An idle machine: spinning waits are fastest (mfdem defaults to passive for shared machines).
-    env.setdefault("OMP_WAIT_POLICY", "active")
-    cmd = [exe, "run", str(scene), "--out", str(out), "--threads", str(threads), "--quiet"]
-    _, measured = run_measured(cmd, 1, rundir, tag, env)
-    summary_path = out / "summary.toml"
-    if not summary_path.exists():
-        raise BenchmarkError(f"{tag}: mfdem wrote no {rel(summary_path)}")
-    summary = tomllib.loads(summary_path.read_text())
-    missing = [k for k in MFDEM_KEYS if k not in summary]
-    if missing:
-        raise BenchmarkError(f"{tag}: {rel(summary_path)} lacks the key(s) {', '.join(missing)}; "
-                             f"the benchmark needs {', '.join(MFDEM_KEYS)}")
-    if int(summary["steps"]) != steps or int(summary["elements"]) != n:
-        raise BenchmarkError(f"{tag}: mfdem ran {summary['steps']} steps with "
-                             f"{summary['elements']} elements, expected {steps} and {n}")
-    sps = float(summary["element_steps_per_second"])
-    check = n * steps / float(summary["wall_seconds"])
-    if not math.isclose(sps, check, rel_tol=0.01):
-        log(f"  warning: {tag}: element_steps_per_second {sps:.4g} differs from "
-            f"steps*elements/wall_seconds {check:.4g}")
-    return {"seconds": float(summary["wall_seconds"]), "sps": sps,
-            "contacts": float(summary["contacts_per_element"]),
-            "rss_self": int(summary["peak_rss_bytes"]), **measured}
+    return run_peer_timed(code, exe, script, var, ranks, rundir, tag, steps, n)
 
 
 # --- contact-law check --------------------------------------------------------------
@@ -565,76 +352,6 @@ def check_law(exes: dict, workdir: Path) -> list[str]:
 
 
 # --- reporting -------------------------------------------------------------------------
-def command_output(cmd: list[str]) -> str:
-    try:
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=30).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return ""
-
-
-def package_version(pkg: str) -> str:
-    return command_output(["dpkg-query", "-W", "-f=${Version}", pkg]) or "not installed"
-
-
-def machine_description(mfdem: Path | None) -> list[str]:
-    lscpu = command_output(["lscpu"])
-    field = lambda name: next((l.split(":", 1)[1].strip() for l in lscpu.splitlines()
-                               if l.startswith(name + ":")), "?")
-    os_name = "?"
-    if Path("/etc/os-release").exists():
-        m = re.search(r'PRETTY_NAME="([^"]+)"', Path("/etc/os-release").read_text())
-        os_name = m.group(1) if m else "?"
-    mem = "?"
-    if Path("/proc/meminfo").exists():
-        m = re.search(r"MemTotal:\s+(\d+)", Path("/proc/meminfo").read_text())
-        mem = f"{int(m.group(1)) / 1024 ** 2:.1f} GiB" if m else "?"
-    lines = [
-        f"- CPU: {field('Model name')}, {field('CPU(s)')} logical CPUs "
-        f"({field('Core(s) per socket')} cores per socket, {field('Thread(s) per core')} "
-        f"thread(s) per core), {field('Hypervisor vendor')} hypervisor" if field('Hypervisor vendor') != "?"
-        else f"- CPU: {field('Model name')}, {field('CPU(s)')} logical CPUs",
-        f"- memory: {mem}; OS: {os_name}, kernel {platform.release()}",
-        f"- compiler: {command_output(['c++', '--version']).splitlines()[0] if shutil.which('c++') else '?'}",
-        "- packages: " + ", ".join(f"{p} {package_version(p)}"
-                                   for p in ("lammps", "liggghts", "openmpi-bin")),
-        f"- this script ran on Python {platform.python_version()} ({sys.executable})",
-    ]
-    if mfdem is not None:
-        cache = None
-        for parent in mfdem.resolve().parents:
-            if (parent / "CMakeCache.txt").exists():
-                cache = (parent / "CMakeCache.txt").read_text()
-                break
-        if cache:
-            get = lambda k: (re.search(rf"^{k}:[A-Z]+=(.*)$", cache, re.M) or [None, "?"])[1]
-            build_type = get("CMAKE_BUILD_TYPE")
-            flags = " ".join(f for f in (get("CMAKE_CXX_FLAGS"),
-                                         get(f"CMAKE_CXX_FLAGS_{build_type.upper()}"))
-                             if f and f != "?")
-            lines.append(f"- mfdem build: CMAKE_BUILD_TYPE={build_type}, compiler "
-                         f"{get('CMAKE_CXX_COMPILER')}, flags `{flags or '(none)'}`")
-        version = command_output([str(mfdem), "version"]).splitlines()
-        built = datetime.datetime.fromtimestamp(mfdem.stat().st_mtime).isoformat(timespec="seconds")
-        lines.append(f"- mfdem binary: {version[0] if version else '(mfdem version gave nothing)'}"
-                     f", built {built}")
-    return lines
-
-
-def fmt_msps(x: float) -> str:
-    return f"{x / 1e6:.2f}"
-
-
-def summarise(samples: list[dict]) -> dict:
-    sps = [s["sps"] for s in samples]
-    return {"median": statistics.median(sps), "min": min(sps), "max": max(sps),
-            "contacts": statistics.median(s["contacts"] for s in samples),
-            "rss": max(s["rss"] for s in samples),
-            "rss_self": max((s.get("rss_self", 0) for s in samples), default=0),
-            "foreign": max(s["foreign"] for s in samples),
-            "cpu_median": statistics.median(s["sps_cpu"] for s in samples),
-            "repeats": len(samples)}
-
-
 CODE_NAMES = {"mfdem": "mfdem", "lammps": "LAMMPS", "liggghts": "LIGGGHTS"}
 
 
@@ -646,8 +363,7 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
         return f"{CODE_NAMES[code]} + rolling ({'epsd2' if code == 'liggghts' else 'mu_r'} {MU_R})"
 
     out = ["# Sphere-bed benchmark: mfdem, LAMMPS and LIGGGHTS", ""]
-    out += [f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by", "",
-            "```", "python3 " + shlex.join([rel(Path(sys.argv[0]))] + sys.argv[1:]), "```", ""]
+    out += provenance_lines("python3")
     out += ["## Scene", "",
             f"{n} spheres, diameter {DIAMETER * 1000:.0f} mm, density {DENSITY:.0f} kg/m^3, "
             f"settled in a 1 m x 1 m box (floor and four side walls, open top); bed top "
@@ -711,11 +427,11 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
         speedup = f"{s['median'] / one['median']:.2f}" if one and procs != 1 else "-"
         mf = results.get(("mfdem", procs, rolling))
         ratio = "-" if code == "mfdem" or mf is None else f"{mf['median'] / s['median']:.2f}"
-        cpu = fmt_msps(s["cpu_median"]) if procs == 1 else "-"
+        cpu = fmt_millions(s["cpu_median"]) if procs == 1 else "-"
         cpu_ratio = ("-" if code == "mfdem" or mf is None or procs != 1
                      else f"{mf['cpu_median'] / s['cpu_median']:.2f}")
-        out.append(f"| {label(code, rolling)} | {procs} | {fmt_msps(s['median'])} | "
-                   f"{fmt_msps(s['min'])} - {fmt_msps(s['max'])} | {speedup} | "
+        out.append(f"| {label(code, rolling)} | {procs} | {fmt_millions(s['median'])} | "
+                   f"{fmt_millions(s['min'])} - {fmt_millions(s['max'])} | {speedup} | "
                    f"{s['contacts']:.3f} | {s['rss'] / 1e6:.1f} | {s['rss'] / n:.0f} | {ratio} | "
                    f"{s['foreign']:.2f} | {cpu} | {cpu_ratio} |")
     out.append("")
@@ -723,8 +439,8 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
     for (code, procs, rolling) in configs:
         if rolling and (code, procs, True) in results and (code, procs, False) in results:
             base, roll = results[(code, procs, False)], results[(code, procs, True)]
-            rows.append(f"| {label(code, True)} | {procs} | {fmt_msps(base['median'])} | "
-                        f"{fmt_msps(roll['median'])} | {base['median'] / roll['median']:.2f} |")
+            rows.append(f"| {label(code, True)} | {procs} | {fmt_millions(base['median'])} | "
+                        f"{fmt_millions(roll['median'])} | {base['median'] / roll['median']:.2f} |")
     if rows:
         out += ["## Extra cost of rolling resistance", "",
                 "Cost ratio = time with rolling resistance / time without (same code, same "
@@ -736,9 +452,7 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
             f"{label(c, r)} {p}: {results[(c, p, r)]['rss_self'] / 1e6:.1f} MB"
             for (c, p, r) in configs if c == "mfdem" and (c, p, r) in results), ""]
     out += ["## Contact-law check (peers)", ""] + law
-    out += ["## Machine", ""] + machine_description(mfdem_path) + [""]
-    if notes:
-        out += ["## Notes", ""] + [f"- {x}" for x in notes] + [""]
+    out += closing_sections(mfdem_path, notes)
     out += ["Inputs: `studies/benchmarks/sphere_bed/` (bed.toml, in.bench.lmp, in.bench.liggghts, "
             "in.settle.lmp); method and parameter mapping in its README.md.", ""]
     return "\n".join(out)
@@ -746,15 +460,7 @@ def report(args, n, steps, results, configs, bed_stats, settle_meta, mfdem_path,
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--repeats", type=int, default=None, help="timed repeats per configuration, "
-                    "median reported (default 3; 1 with --quick)")
-    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2],
-                    help="mfdem OpenMP threads and peer MPI ranks to time (default 1 2)")
-    ap.add_argument("--steps", type=int, default=None,
-                    help="timed steps (default 5000; 1000 with --quick)")
-    ap.add_argument("--mfdem", default="build/studies/mfdem", help="the mfdem executable")
-    ap.add_argument("--lammps", default="lmp", help="the LAMMPS executable")
-    ap.add_argument("--liggghts", default="liggghts", help="the LIGGGHTS executable")
+    add_run_options(ap)
     ap.add_argument("--codes", nargs="+", default=["mfdem", "lammps", "liggghts"],
                     choices=["mfdem", "lammps", "liggghts"], help="codes to time (default all)")
     ap.add_argument("--no-rolling", action="store_true",
@@ -773,27 +479,19 @@ def main() -> int:
                     help="run a timing again (at most this often) when other processes used "
                     f"more than {DISTURBED} cores during it; the least disturbed one is kept "
                     "(default 2)")
-    ap.add_argument("--wait-idle", type=float, default=120.0, metavar="SECONDS",
-                    help="before each timed run, wait up to this long for other processes to "
-                    "leave the CPUs idle (default 120; 0 = do not wait)")
-    ap.add_argument("--scratch", default="scratch/benchmarks/sphere_bed",
-                    help="cache and run folder (default scratch/benchmarks/sphere_bed)")
+    add_machine_options(ap, "sphere_bed")
     args = ap.parse_args()
 
     n = N_QUICK if args.quick else N_FULL
-    steps = args.steps if args.steps is not None else (1000 if args.quick else 5000)
-    args.repeats = args.repeats if args.repeats is not None else (1 if args.quick else 3)
-    resolve = lambda p: Path(p) if Path(p).is_absolute() else REPO / p
-    scratch = resolve(args.scratch)
-    out_path = resolve(args.out) if args.out else (
-        scratch / "sphere_bed_quick.md" if args.quick else REPO / "results/benchmarks/sphere_bed.md")
+    fill_quick_defaults(args)
+    steps = args.steps
+    scratch = repo_path(args.scratch)
+    out_path = report_path(args, scratch, "sphere_bed")
     workdir = scratch / f"n{n}_seed{args.seed}"
     rundir = workdir / "runs"
     notes: list[str] = []
 
-    if not Path("/usr/bin/time").exists():
-        raise BenchmarkError("/usr/bin/time is needed to measure peak memory "
-                             "(Debian package 'time')")
+    require_time_tool()
     lmp = shutil.which(args.lammps)
     if lmp is None:
         raise BenchmarkError(f"LAMMPS executable '{args.lammps}' not found; it also settles the "
@@ -806,7 +504,7 @@ def main() -> int:
                                  "(Debian package 'liggghts'), or leave it out with --codes")
     mfdem_path = None
     if "mfdem" in args.codes:
-        mfdem_path = resolve(args.mfdem)
+        mfdem_path = repo_path(args.mfdem)
         if not (mfdem_path.is_file() and os.access(mfdem_path, os.X_OK)):
             raise BenchmarkError(
                 f"mfdem executable {rel(mfdem_path)} not found; build it first "
@@ -814,10 +512,7 @@ def main() -> int:
                 "or time the peers only with --codes lammps liggghts")
         exes["mfdem"] = str(mfdem_path)
     threads = sorted(set(args.threads))
-    if max(threads) > 1 and mpirun() is None:
-        notes.append("mpirun not found: LAMMPS and LIGGGHTS ran as 1 process only.")
-    if max(threads) > max_ranks():
-        notes.append(f"more threads/ranks requested than the {max_ranks()} logical CPUs.")
+    notes += parallel_notes(threads)
 
     if args.check_law:
         log("\n".join(check_law(exes, scratch / "law_check")))
@@ -909,21 +604,13 @@ def main() -> int:
                      + ", ".join(sorted(set(busy))) + "): those timings are disturbed.")
     law = check_law(exes, scratch / "law_check")
     text = report(args, n, steps, results, configs, stats, settle_meta, mfdem_path, notes, law)
-    out_path.parent.mkdir(parents=True, exist_ok=True)
-    out_path.write_text(text)
+    publish_report(text, out_path)
     (workdir / "results.json").write_text(json.dumps(
         {"spheres": n, "steps": steps, "bed": stats, "settle": settle_meta,
          "samples": {f"{c}|{p}|{'rolling' if r else 'base'}": s
                      for (c, p, r), s in samples.items()}}, indent=2) + "\n")
-    log("")
-    log(text)
-    log(f"report written to {rel(out_path)}")
     return 0
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main())
-    except BenchmarkError as e:
-        print(f"run_benchmark.py: error: {e}", file=sys.stderr)
-        sys.exit(1)
+    run_main(main)
