@@ -10,22 +10,6 @@
 namespace mfdem::dem {
 namespace {
 
-struct Candidate {
-  Index j;
-  Image image;
-};
-
-// Image of j nearest to i along the periodic axes, given their wrapped positions.
-Image nearest_image(const Vec3& xi, const Vec3& xj, const Domain& domain) {
-  Image image{0, 0, 0};
-  const Vec3 length = domain.length();
-  for (int a = 0; a < 3; ++a) {
-    if (!domain.periodic[a]) continue;
-    image[a] = static_cast<std::int8_t>(-std::lround((xj[a] - xi[a]) / length[a]));
-  }
-  return image;
-}
-
 void finish_csr(PairList& list, Index element_count) {
   list.row_start.assign(element_count + 1, 0);
   for (Index p = 0; p < list.size(); ++p) ++list.row_start[list.first[p] + 1];
@@ -83,10 +67,21 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
   std::vector<Index> cell_start(cell_count + 1, 0);
   for (Index e = 0; e < n; ++e) ++cell_start[cell_of[e] + 1];
   for (int c = 0; c < cell_count; ++c) cell_start[c + 1] += cell_start[c];
+  // The members of each cell, in element order, with copies of what the scan reads laid out in
+  // cell order: the candidates of a cell are then contiguous in memory, not scattered.
   std::vector<Index> cell_members(n);
   {
     std::vector<Index> fill(cell_start.begin(), cell_start.end() - 1);
     for (Index e = 0; e < n; ++e) cell_members[fill[cell_of[e]]++] = e;
+  }
+  std::vector<Vec3> member_position(n);
+  std::vector<double> member_radius(n);
+  std::vector<Index> member_body(n);
+  for (Index m = 0; m < n; ++m) {
+    const Index e = cell_members[m];
+    member_position[m] = wrapped[e];
+    member_radius[m] = elements.radius[e];
+    member_body[m] = elements.body[e];
   }
 
   // Each thread scans a contiguous block of i in order; concatenating the blocks in thread
@@ -104,34 +99,40 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     auto& out_first = block_first[t];
     auto& out_second = block_second[t];
     auto& out_image = block_image[t];
+    // A neighbour cell reached across a periodic face holds images one box length away. With at
+    // least three cells along such an axis each neighbour cell is a distinct cell, and for a pair
+    // within the cutoff (at most a third of the box) this image is the nearest one.
+    auto neighbour = [&](int c, int d, int a, std::int8_t& image) {
+      image = 0;
+      int k = c + d;
+      if (k >= 0 && k < cells[a]) return k;
+      if (!domain.periodic[a]) return -1;
+      image = k < 0 ? -1 : 1;
+      return k < 0 ? k + cells[a] : k - cells[a];
+    };
     for (Index i = begin; i < end; ++i) {
       const int ci = cell_of[i];
       const int cx = ci % cells[0], cy = (ci / cells[0]) % cells[1], cz = ci / (cells[0] * cells[1]);
+      const Vec3 xi = wrapped[i];
+      const double ri = elements.radius[i];
+      const Index body_i = elements.body[i];
+      Image cell_image;
       for (int dz = -1; dz <= 1; ++dz) {
-        int z = cz + dz;
-        if (z < 0 || z >= cells[2]) {
-          if (!domain.periodic[2]) continue;
-          z = (z + cells[2]) % cells[2];
-        }
+        const int z = neighbour(cz, dz, 2, cell_image[2]);
+        if (z < 0) continue;
         for (int dy = -1; dy <= 1; ++dy) {
-          int y = cy + dy;
-          if (y < 0 || y >= cells[1]) {
-            if (!domain.periodic[1]) continue;
-            y = (y + cells[1]) % cells[1];
-          }
+          const int y = neighbour(cy, dy, 1, cell_image[1]);
+          if (y < 0) continue;
           for (int dx = -1; dx <= 1; ++dx) {
-            int x = cx + dx;
-            if (x < 0 || x >= cells[0]) {
-              if (!domain.periodic[0]) continue;
-              x = (x + cells[0]) % cells[0];
-            }
+            const int x = neighbour(cx, dx, 0, cell_image[0]);
+            if (x < 0) continue;
             const int c = (z * cells[1] + y) * cells[0] + x;
+            const Vec3 shift = image_shift(cell_image, length);
             for (Index m = cell_start[c]; m < cell_start[c + 1]; ++m) {
               const Index j = cell_members[m];
-              if (j <= i || elements.body[j] == elements.body[i]) continue;
-              const Image wrap_image = nearest_image(wrapped[i], wrapped[j], domain);
-              const Vec3 d = wrapped[j] + image_shift(wrap_image, length) - wrapped[i];
-              const double reach = elements.radius[i] + elements.radius[j] + skin;
+              if (j <= i || member_body[m] == body_i) continue;
+              const Vec3 d = member_position[m] + shift - xi;
+              const double reach = ri + member_radius[m] + skin;
               if (d.squaredNorm() >= reach * reach) continue;
               // Express the image for the unwrapped positions the solver integrates.
               const Vec3 total = d - (elements.position[j] - elements.position[i]);
