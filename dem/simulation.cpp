@@ -151,7 +151,8 @@ void Simulation::prepare() {
   }
   double min_radius = std::numeric_limits<double>::infinity();
   for (double r : elements_.radius) min_radius = std::min(min_radius, r);
-  skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
+  base_skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
+  skin_ = base_skin_;
 
   const Index ne = elements_.size();
   const std::size_t nw = walls_.size();
@@ -326,6 +327,7 @@ void Simulation::rebuild() {
     wrap_total_[b] += shift;
     update_element_positions(b);
   }
+  if (settings_.skin <= 0.0) skin_ = adaptive_skin();
   PairList fresh = build_pair_list(elements_, domain_, skin_);
   const Index n = fresh.size();
   std::vector<ContactHistory> history(n);
@@ -366,6 +368,31 @@ void Simulation::release_opened_contacts() {
     if (d.squaredNorm() >= reach * reach) released += release_pair(p, d);
   }
   dissipated_friction_ += released;
+}
+
+// The automatic skin: the base skin (0.2 x the smallest radius) while the bodies creep, as in a
+// packed bed; up to five times more while they fly (a deposition falling at metres per second
+// rebuilt every ~15 steps at the base skin, and the builds took over half the time), so that the
+// fastest element needs about kStepsPerBuild steps to cross half the skin. Kept below what a
+// periodic axis allows (three cells of largest diameter + skin). The skin only decides how often
+// the list is rebuilt, never which contacts act (tests/physics/contact_history_rebuild_test.cpp).
+double Simulation::adaptive_skin() const {
+  constexpr double kStepsPerBuild = 40.0, kMaxFactor = 5.0;
+  const Index ne = elements_.size();
+  double fastest = 0.0;  // m/s: bound on any element's speed, |v| + |w| |lever|
+#pragma omp parallel for schedule(static) reduction(max : fastest) if (ne > kChunkSize)
+  for (Index e = 0; e < ne; ++e) {
+    const Index b = elements_.body[e];
+    const double lever = (elements_.position[e] - bodies_.position[b]).norm();
+    fastest = std::max(fastest, bodies_.velocity[b].norm() + bodies_.angular_velocity[b].norm() * lever);
+  }
+  double largest_radius = 0.0;
+  for (double r : elements_.radius) largest_radius = std::max(largest_radius, r);
+  double ceiling = kMaxFactor * base_skin_;
+  for (int a = 0; a < 3; ++a)
+    if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / 3.0 - 2.0 * largest_radius);
+  const double wanted = 2.0 * fastest * dt_ * kStepsPerBuild;
+  return std::max(base_skin_, std::min(wanted, ceiling));
 }
 
 // Marks the elements that may touch a plane wall before the next scan. Until the next

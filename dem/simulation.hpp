@@ -31,7 +31,7 @@ struct SimulationSettings {
   double time_step_safety = 0.2;   // automatic step = safety x critical step
   bool force_time_step = false;    // accept a given step above the critical one
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
-  double skin = 0.0;               // m; 0 selects 0.2 x the smallest radius
+  double skin = 0.0;               // m; 0: automatic, 0.2 x the smallest radius, more while bodies fly
   GuardSettings guards;
 };
 
@@ -209,7 +209,9 @@ class Simulation {
   std::vector<Vec3> wall_scan_point_, wall_scan_normal_;  // the walls at the last scan
   bool scan_walls_ = true;
   std::vector<Vec3> build_position_;          // element positions at the last build
-  double skin_ = 0.0;
+  double skin_ = 0.0;       // of the current list
+  double base_skin_ = 0.0;  // given, or 0.2 x the smallest radius
+  double adaptive_skin() const;
 
   std::vector<RigidBox> boxes_;
   std::vector<ContactHistory> box_history_;   // [element * boxes + box]
