@@ -46,6 +46,7 @@ struct StageGoal {
   double ratio;     // equilibrium target (stage_runner.hpp)
   double max_time;  // s
   double mean_size; // m, of the stones: the energy scale is their weight times it
+  RestCriterion criterion;
 };
 
 struct Stage {
@@ -67,7 +68,7 @@ Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::
   if (!stage_directory.empty())
     frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
   stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
-                                   goal.max_time, quiet, frames.get());
+                                   goal.max_time, quiet, goal.criterion, frames.get());
   return stage;
 }
 
@@ -107,7 +108,8 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   deposit.stone_local_damping = c.preparation.deposition_local_damping;
   deposit.container_walls = true;
   const Stage deposition = run_stage(c, domain, bodies, deposit, {"deposit", c.preparation.deposition_ratio,
-                                     c.preparation.max_deposition_time, mean_size}, quiet, stage_directory);
+                                     c.preparation.max_deposition_time, mean_size,
+                                     RestCriterion::kEnergyOnly}, quiet, stage_directory);
   report.time_step = deposition.sim.time_step();
   report.stages.push_back(deposition.report);
 
@@ -131,7 +133,8 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
   const Stage settling = run_stage(c, domain, kept, settle, {"settle", c.preparation.equilibrium_ratio,
-                                   c.preparation.max_settling_time, mean_size}, quiet, stage_directory);
+                                   c.preparation.max_settling_time, mean_size,
+                                   RestCriterion::kForcesAndEnergy}, quiet, stage_directory);
   report.stages.push_back(settling.report);
 
   Packing p;

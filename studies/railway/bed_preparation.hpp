@@ -12,8 +12,11 @@
 //    the stone friction lowered to `deposition_friction` (a denser bed, as the "reduced
 //    friction" compaction of PFC studies) and local damping `deposition_local_damping` (0.2:
 //    PFC's 0.7 would make a stone fall at 0.3 g; without any, low-friction clumps keep
-//    bouncing on the surface). The stage ends when the bed is at rest to `deposition_ratio`
-//    (stage_runner.hpp) or at `max_deposition_time`.
+//    bouncing on the surface). The stage ends when the stones have landed: their kinetic energy
+//    below `deposition_ratio` x the work of lifting them by one mean stone size (stage_runner.hpp),
+//    or at `max_deposition_time`. Not the force ratio too: while low-friction clumps roll on the
+//    surface it stays at 0.2-0.8 (standard and mini) and the stage always ran to its limit; the
+//    settling (step 5) is where equilibrium is asked for.
 // 4. Trimming and sleeper placement. Stones whose centre lies above the design surface (crib
 //    and shoulder crest at the sleeper top, the shoulder slope beyond) or which intersect the
 //    sleeper's volume are removed; the container walls go; the sleeper box is placed with its

@@ -56,9 +56,9 @@ void read_preparation(const Section& s, PreparationSettings& p) {
   p.local_damping = s.number_or("local_damping", p.local_damping, kBelowOne,
                                 "local damping alpha of the stones while settling");
   p.deposition_ratio = s.number_or("deposition_ratio", p.deposition_ratio, kPositive,
-                                   "mean unbalanced force ratio that ends the deposition");
+                                   "kinetic energy / (M g d_mean) that ends the deposition");
   p.equilibrium_ratio = s.number_or("equilibrium_ratio", p.equilibrium_ratio, kPositive,
-                                    "mean unbalanced force ratio that counts as settled");
+                                    "mean unbalanced force ratio (and kinetic energy / (M g d_mean)) that counts as settled");
   p.max_deposition_time = s.number_or("max_deposition_time", p.max_deposition_time, kPositive,
                                       "longest deposition in simulated s");
   p.max_settling_time = s.number_or("max_settling_time", p.max_settling_time, kPositive,

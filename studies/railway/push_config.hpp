@@ -27,7 +27,7 @@ struct PreparationSettings {
   double drop_speed = 6.0;            // m/s downward of the highest stone as deposition starts
   double deposition_local_damping = 0.2;  // alpha while depositing (0.7 would slow free fall to 0.3 g)
   double local_damping = 0.7;         // alpha of the stones while settling
-  double deposition_ratio = 1e-2;     // deposition ends when the mean unbalanced force ratio is below this
+  double deposition_ratio = 1e-2;     // deposition ends when kinetic energy / (M g d_mean) is below this
   double equilibrium_ratio = 1e-3;    // the bed is settled when the ratio is below this
   double max_deposition_time = 1.5;   // s of simulated time, a limit
   double max_settling_time = 1.0;     // s, a limit for each settling stage

@@ -16,7 +16,8 @@ constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate pr
 }  // namespace
 
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
-                              double energy_scale, double max_time, bool quiet, dem::StateFile* frames, double frame_interval,
+                              double energy_scale, double max_time, bool quiet, RestCriterion criterion,
+                              dem::StateFile* frames, double frame_interval,
                               double check_interval) {
   StageReport r;
   r.name = name;
@@ -45,7 +46,9 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     if (k % every != 0) continue;
     r.unbalanced_force_ratio = sim.unbalanced_force_ratio();
     const double kinetic = sim.energy().kinetic() / energy_scale;
-    below = r.unbalanced_force_ratio < ratio_target && kinetic < ratio_target ? below + 1 : 0;
+    const bool forces_balanced =
+        criterion == RestCriterion::kEnergyOnly || r.unbalanced_force_ratio < ratio_target;
+    below = forces_balanced && kinetic < ratio_target ? below + 1 : 0;
     progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
                                                  r.unbalanced_force_ratio, kinetic, ratio_target));
     if (below >= 2) {

@@ -4,8 +4,9 @@
 // (dem::Simulation::unbalanced_force_ratio, PFC's criterion) is below the target, and so is the
 // kinetic energy over `energy_scale` (the stones' weight times their mean size: the work of
 // lifting the bed by one stone). The second condition stops a false "settled" while stones
-// still fall: during impacts the contact forces are large and the ratio small. Checks fall on fixed step counts, so a stage ends on the
-// same step whatever the thread count.
+// still fall: during impacts the contact forces are large and the ratio small. A stage that only
+// has to land the stones (the deposition) asks for the kinetic condition alone. Checks fall on
+// fixed step counts, so a stage ends on the same step whatever the thread count.
 #include <cstdint>
 #include <string>
 
@@ -25,8 +26,11 @@ struct StageReport {
 
 // `check_interval` in simulated seconds. With `frames`, writes the state every `frame_interval`
 // simulated seconds and at the end (for a look at the preparation in ParaView).
+enum class RestCriterion { kForcesAndEnergy, kEnergyOnly };
+
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
-                              double energy_scale, double max_time, bool quiet, dem::StateFile* frames = nullptr,
+                              double energy_scale, double max_time, bool quiet, RestCriterion criterion,
+                              dem::StateFile* frames = nullptr,
                               double frame_interval = 0.02, double check_interval = 2e-3);
 
 }  // namespace mfdem::railway
