@@ -104,7 +104,7 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     // within the cutoff (at most a third of the box) this image is the nearest one.
     auto neighbour = [&](int c, int d, int a, std::int8_t& image) {
       image = 0;
-      int k = c + d;
+      const int k = c + d;
       if (k >= 0 && k < cells[a]) return k;
       if (!domain.periodic[a]) return -1;
       image = k < 0 ? -1 : 1;

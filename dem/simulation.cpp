@@ -150,7 +150,11 @@ void Simulation::prepare() {
     dt_ = settings_.time_step_safety * limit_.limit;
   }
   double min_radius = std::numeric_limits<double>::infinity();
-  for (double r : elements_.radius) min_radius = std::min(min_radius, r);
+  largest_radius_ = 0.0;
+  for (double r : elements_.radius) {
+    min_radius = std::min(min_radius, r);
+    largest_radius_ = std::max(largest_radius_, r);
+  }
   base_skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
   skin_ = base_skin_;
 
@@ -386,11 +390,9 @@ double Simulation::adaptive_skin() const {
     const double lever = (elements_.position[e] - bodies_.position[b]).norm();
     fastest = std::max(fastest, bodies_.velocity[b].norm() + bodies_.angular_velocity[b].norm() * lever);
   }
-  double largest_radius = 0.0;
-  for (double r : elements_.radius) largest_radius = std::max(largest_radius, r);
   double ceiling = kMaxFactor * base_skin_;
   for (int a = 0; a < 3; ++a)
-    if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / 3.0 - 2.0 * largest_radius);
+    if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / 3.0 - 2.0 * largest_radius_);
   const double wanted = 2.0 * fastest * dt_ * kStepsPerBuild;
   return std::max(base_skin_, std::min(wanted, ceiling));
 }

@@ -211,6 +211,7 @@ class Simulation {
   std::vector<Vec3> build_position_;          // element positions at the last build
   double skin_ = 0.0;       // of the current list
   double base_skin_ = 0.0;  // given, or 0.2 x the smallest radius
+  double largest_radius_ = 0.0;  // of any element, m (set by prepare)
   double adaptive_skin() const;
 
   std::vector<RigidBox> boxes_;
