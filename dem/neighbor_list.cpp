@@ -23,14 +23,12 @@ void finish_csr(PairList& list, Index element_count) {
   for (Index p = 0; p < list.size(); ++p) list.as_second_pair[fill[list.second[p]]++] = p;
 }
 
-double max_radius(const Elements& elements) {
-  double r = 0.0;
-  for (double ri : elements.radius) r = std::max(r, ri);
-  return r;
-}
-
 }  // namespace
 
+// Cells are about one typical contact reach wide (2 x mean radius + skin), not one largest
+// reach: in a graded bed (pebbles of 4-32 mm) cells sized for the largest pair made every
+// element scan 27 large cells, about 60 times the volume its contacts can lie in. Element i
+// scans the cells that overlap the cube of half-width r_i + r_max + skin around it.
 PairList build_pair_list(const Elements& elements, const Domain& domain, double skin) {
   const Index n = elements.size();
   PairList list;
@@ -38,22 +36,30 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     finish_csr(list, 0);
     return list;
   }
-  const double cutoff = 2.0 * max_radius(elements) + skin;
+  double largest = 0.0, radius_sum = 0.0;
+  for (double r : elements.radius) {
+    largest = std::max(largest, r);
+    radius_sum += r;
+  }
+  const double cutoff = 2.0 * largest + skin;
+  const double cell_target = std::max(2.0 * radius_sum / n + skin, 0.25 * cutoff);
   const Vec3 length = domain.length();
   std::array<int, 3> cells{};
   for (int a = 0; a < 3; ++a) {
-    cells[a] = std::max(1, static_cast<int>(std::floor(length[a] / cutoff)));
-    if (domain.periodic[a] && cells[a] < 3)
+    // Three largest reaches per periodic length: then at most one image of j is within reach.
+    if (domain.periodic[a] && length[a] < 3.0 * cutoff)
       throw std::invalid_argument(
           "periodic box length along axis " + std::string(1, "xyz"[a]) + " (" +
           std::to_string(length[a]) + " m) must be at least 3 x (largest diameter + skin) = " +
           std::to_string(3.0 * cutoff) + " m");
+    cells[a] = std::max(1, static_cast<int>(std::floor(length[a] / cell_target)));
   }
   const Vec3 cell_size(length[0] / cells[0], length[1] / cells[1], length[2] / cells[2]);
 
   // Bin wrapped positions; clamp along walled axes (clamping keeps near pairs adjacent).
   std::vector<Vec3> wrapped(n);
   std::vector<int> cell_of(n);
+#pragma omp parallel for schedule(static) if (n > 4096)
   for (Index e = 0; e < n; ++e) {
     wrapped[e] = elements.position[e] + domain.wrap_shift(elements.position[e]);
     int c[3];
@@ -77,6 +83,7 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
   std::vector<Vec3> member_position(n);
   std::vector<double> member_radius(n);
   std::vector<Index> member_body(n);
+#pragma omp parallel for schedule(static) if (n > 4096)
   for (Index m = 0; m < n; ++m) {
     const Index e = cell_members[m];
     member_position[m] = wrapped[e];
@@ -84,8 +91,36 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     member_body[m] = elements.body[e];
   }
 
-  // Each thread scans a contiguous block of i in order; concatenating the blocks in thread
-  // order gives the same list whatever the thread count.
+  // The cells along one axis that element i scans, each with the periodic image it is reached
+  // through (a cell reached across a periodic face holds images one box length away).
+  struct AxisRange {
+    int count = 0;
+    std::array<int, 32> cell{};
+    std::array<std::int8_t, 32> image{};
+  };
+  auto axis_range = [&](int a, double x, double reach) {
+    AxisRange range;
+    int lo = static_cast<int>(std::floor((x - reach - domain.min[a]) / cell_size[a]));
+    int hi = static_cast<int>(std::floor((x + reach - domain.min[a]) / cell_size[a]));
+    if (!domain.periodic[a]) {  // an element far outside scans the edge cell it is clamped into
+      lo = std::clamp(lo, 0, cells[a] - 1);
+      hi = std::clamp(hi, 0, cells[a] - 1);
+    }
+    // At most 2 x 4 + 2 cells: the cell target is at least a quarter of the cutoff.
+    hi = std::min(hi, lo + static_cast<int>(range.cell.size()) - 1);
+    for (int k = lo; k <= hi; ++k) {
+      const int wrapped_k = ((k % cells[a]) + cells[a]) % cells[a];
+      range.cell[range.count] = wrapped_k;
+      range.image[range.count] = static_cast<std::int8_t>((k - wrapped_k) / cells[a]);
+      ++range.count;
+    }
+    return range;
+  };
+
+  // Each pair is found by its larger member (the higher index among equals), which then only
+  // searches 2 r_i + skin around itself: a small pebble no longer scans for the largest one.
+  // Each thread scans a contiguous block of i in order; the blocks are concatenated in thread
+  // order and sorted stably by first member, so the list does not depend on the thread count.
   // Small systems stay on one thread: a parallel region costs more than it saves there.
   const int threads = n > 4096 ? omp_get_max_threads() : 1;
   std::vector<std::vector<Index>> block_first(threads), block_second(threads);
@@ -99,49 +134,36 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     auto& out_first = block_first[t];
     auto& out_second = block_second[t];
     auto& out_image = block_image[t];
-    // A neighbour cell reached across a periodic face holds images one box length away. With at
-    // least three cells along such an axis each neighbour cell is a distinct cell, and for a pair
-    // within the cutoff (at most a third of the box) this image is the nearest one.
-    auto neighbour = [&](int c, int d, int a, std::int8_t& image) {
-      image = 0;
-      const int k = c + d;
-      if (k >= 0 && k < cells[a]) return k;
-      if (!domain.periodic[a]) return -1;
-      image = k < 0 ? -1 : 1;
-      return k < 0 ? k + cells[a] : k - cells[a];
-    };
     for (Index i = begin; i < end; ++i) {
-      const int ci = cell_of[i];
-      const int cx = ci % cells[0], cy = (ci / cells[0]) % cells[1], cz = ci / (cells[0] * cells[1]);
       const Vec3 xi = wrapped[i];
       const double ri = elements.radius[i];
       const Index body_i = elements.body[i];
-      Image cell_image;
-      for (int dz = -1; dz <= 1; ++dz) {
-        const int z = neighbour(cz, dz, 2, cell_image[2]);
-        if (z < 0) continue;
-        for (int dy = -1; dy <= 1; ++dy) {
-          const int y = neighbour(cy, dy, 1, cell_image[1]);
-          if (y < 0) continue;
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int x = neighbour(cx, dx, 0, cell_image[0]);
-            if (x < 0) continue;
-            const int c = (z * cells[1] + y) * cells[0] + x;
-            const Vec3 shift = image_shift(cell_image, length);
+      const double search = 2.0 * ri + skin;
+      const AxisRange rx = axis_range(0, xi[0], search);
+      const AxisRange ry = axis_range(1, xi[1], search);
+      const AxisRange rz = axis_range(2, xi[2], search);
+      for (int iz = 0; iz < rz.count; ++iz) {
+        for (int iy = 0; iy < ry.count; ++iy) {
+          for (int ix = 0; ix < rx.count; ++ix) {
+            const int c = (rz.cell[iz] * cells[1] + ry.cell[iy]) * cells[0] + rx.cell[ix];
+            const Vec3 shift = image_shift({rx.image[ix], ry.image[iy], rz.image[iz]}, length);
             for (Index m = cell_start[c]; m < cell_start[c + 1]; ++m) {
+              const double rj = member_radius[m];
               const Index j = cell_members[m];
-              if (j <= i || member_body[m] == body_i) continue;
+              if (rj > ri || (rj == ri && j <= i) || member_body[m] == body_i) continue;
               const Vec3 d = member_position[m] + shift - xi;
-              const double reach = ri + member_radius[m] + skin;
+              const double reach = ri + rj + skin;
               if (d.squaredNorm() >= reach * reach) continue;
-              // Express the image for the unwrapped positions the solver integrates.
+              // Express the image for the unwrapped positions the solver integrates, as the
+              // image of the higher index seen from the lower one.
               const Vec3 total = d - (elements.position[j] - elements.position[i]);
+              const double sign = j > i ? 1.0 : -1.0;
               Image image;
               for (int a = 0; a < 3; ++a)
                 image[a] = static_cast<std::int8_t>(
-                    domain.periodic[a] ? std::lround(total[a] / length[a]) : 0);
-              out_first.push_back(i);
-              out_second.push_back(j);
+                    domain.periodic[a] ? std::lround(sign * total[a] / length[a]) : 0);
+              out_first.push_back(std::min(i, j));
+              out_second.push_back(std::max(i, j));
               out_image.push_back(image);
             }
           }
@@ -149,10 +171,22 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
       }
     }
   }
+  // Stable counting sort by first member: rows in increasing i, as the solver reads them.
+  std::vector<Index> row_fill(n + 1, 0);
+  for (int t = 0; t < threads; ++t)
+    for (Index f : block_first[t]) ++row_fill[f + 1];
+  for (Index e = 0; e < n; ++e) row_fill[e + 1] += row_fill[e];
+  const Index pair_count = row_fill[n];
+  list.first.resize(pair_count);
+  list.second.resize(pair_count);
+  list.image.resize(pair_count);
   for (int t = 0; t < threads; ++t) {
-    list.first.insert(list.first.end(), block_first[t].begin(), block_first[t].end());
-    list.second.insert(list.second.end(), block_second[t].begin(), block_second[t].end());
-    list.image.insert(list.image.end(), block_image[t].begin(), block_image[t].end());
+    for (std::size_t k = 0; k < block_first[t].size(); ++k) {
+      const Index slot = row_fill[block_first[t][k]]++;
+      list.first[slot] = block_first[t][k];
+      list.second[slot] = block_second[t][k];
+      list.image[slot] = block_image[t][k];
+    }
   }
   finish_csr(list, n);
   return list;

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <type_traits>
 
+#include "dem/spatial_order.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/railway/stone_columns.hpp"
 
@@ -79,6 +81,16 @@ double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
   return top;
 }
 
+template <class Stone>
+std::vector<dem::Vec3> positions_of(const std::vector<Stone>& stones) {
+  std::vector<dem::Vec3> x;
+  for (const Stone& s : stones) {
+    if constexpr (std::is_same_v<Stone, DrawnStone>) x.push_back(s.body.position);
+    else x.push_back(s.position);
+  }
+  return x;
+}
+
 }  // namespace
 
 Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
@@ -96,6 +108,7 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   drawn = place_in_columns(c, std::move(drawn));
   double mean_size = 0.0;
   for (const auto& s : drawn) mean_size += s.record.size / static_cast<double>(count);
+  drawn = dem::permuted(drawn, dem::morton_order(positions_of(drawn), mean_size));
   report.stones_generated = count;
 
   std::vector<dem::ClumpSpec> bodies;
@@ -126,6 +139,10 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
     records.push_back(drawn[k].record);
   }
   report.stones_removed = count - static_cast<std::int64_t>(kept.size());
+  // The columns have collapsed: store the kept stones in space order again.
+  const std::vector<dem::Index> order = dem::morton_order(positions_of(kept), mean_size);
+  kept = dem::permuted(kept, order);
+  records = dem::permuted(records, order);
 
   // Step 5: settle with the design friction, the sleeper free to sink onto the bed.
   StageSetup settle;

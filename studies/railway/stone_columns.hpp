@@ -37,9 +37,9 @@ class StoneFactory {
 };
 
 // Columns on a grid over the container floor (toe to toe, the section's length) with the mean
-// stone's footprint. Each stone goes on top of its column, raised further where its bounding
-// sphere would touch a stone of a neighbouring column (large stones overhang their column), with
-// a seeded sideways jitter, never into a wall. Each starts down at drop_speed x its height / the
+// stone's footprint. Each stone, with a seeded sideways jitter (never into a wall), is dropped
+// straight down onto the stones of its own and the neighbouring columns (large stones overhang
+// their column) and rests where its pebbles first meet theirs, with a 2 % gap. Each starts down at drop_speed x its height / the
 // highest stone's: a uniform collapse, quicker than a free fall from rest.
 std::vector<DrawnStone> place_in_columns(const PushStudyConfig& config, std::vector<DrawnStone> stones);
 

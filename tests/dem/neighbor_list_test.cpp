@@ -2,7 +2,8 @@
 // the same set of pairs (i, j, image of j), exactly, after sorting. Cases: random polydisperse
 // packings in a walled box, with periodic axes (positions also given unwrapped, several box
 // lengths away), elements far outside the walled box (clamped into the edge cells), and
-// clump-like bodies of several elements, whose own pairs must be left out.
+// clump-like bodies of several elements, whose own pairs must be left out; two sizes 8x apart
+// with many equal radii (a pair is found by its larger member).
 #include <catch2/catch.hpp>
 #include <omp.h>
 
@@ -75,6 +76,18 @@ TEST_CASE("the cell list finds exactly the brute-force pairs in a walled box", "
   cloud.scatter(1500, Vec3::Zero(), Vec3::Constant(0.6), 0.01, 0.04);
   const auto pairs = compare(cloud.elements, box_domain(Vec3::Zero(), Vec3::Constant(0.6)), kSkin);
   CHECK(pairs > 1000);
+}
+
+TEST_CASE("the cell list finds pairs of equal radii and of a radius 8x smaller, as brute force does",
+          "[dem][neighbours]") {
+  // A pair is found by its larger member, the higher index among equal radii: two sizes only
+  // (many ties) and a graded bed's 4-32 mm spread check both branches, with a periodic axis.
+  Cloud cloud(23);
+  for (int k = 0; k < 1200; ++k)
+    cloud.add(Vec3(cloud.uniform(0, 0.6), cloud.uniform(0, 0.6), cloud.uniform(0, 0.6)),
+              k % 3 == 0 ? 0.032 : 0.004);
+  const auto pairs = compare(cloud.elements, box_domain(Vec3::Zero(), Vec3::Constant(0.6), {false, true, false}), kSkin);
+  CHECK(pairs > 300);
 }
 
 TEST_CASE("the cell list finds exactly the brute-force pairs across periodic faces", "[dem][neighbours][periodic]") {
