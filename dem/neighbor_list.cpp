@@ -27,8 +27,9 @@ void finish_csr(PairList& list, Index element_count) {
 
 // Cells are about one typical contact reach wide (2 x mean radius + skin), not one largest
 // reach: in a graded bed (pebbles of 4-32 mm) cells sized for the largest pair made every
-// element scan 27 large cells, about 60 times the volume its contacts can lie in. Element i
-// scans the cells that overlap the cube of half-width r_i + r_max + skin around it.
+// element scan 27 large cells, about 60 times the volume its contacts can lie in. Each pair is
+// found by its larger member, which scans the cells overlapping the cube of half-width
+// 2 r_i + skin around itself.
 PairList build_pair_list(const Elements& elements, const Domain& domain, double skin) {
   const Index n = elements.size();
   PairList list;
@@ -42,9 +43,8 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     radius_sum += r;
   }
   const double cutoff = 2.0 * largest + skin;
-  const double cell_target = std::max(2.0 * radius_sum / n + skin, 0.25 * cutoff);
+  double cell_target = std::max(2.0 * radius_sum / n + skin, 0.25 * cutoff);
   const Vec3 length = domain.length();
-  std::array<int, 3> cells{};
   for (int a = 0; a < 3; ++a) {
     // Three largest reaches per periodic length: then at most one image of j is within reach.
     if (domain.periodic[a] && length[a] < 3.0 * cutoff)
@@ -52,8 +52,14 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
           "periodic box length along axis " + std::string(1, "xyz"[a]) + " (" +
           std::to_string(length[a]) + " m) must be at least 3 x (largest diameter + skin) = " +
           std::to_string(3.0 * cutoff) + " m");
-    cells[a] = std::max(1, static_cast<int>(std::floor(length[a] / cell_target)));
   }
+  // A sparse scene in a large box (a few bodies in a tall domain) gets larger cells: at most
+  // about eight cells per element, and never fewer than a million allowed.
+  const double cell_limit = std::max(1e6, 8.0 * n);
+  const double box_cells = (length[0] / cell_target) * (length[1] / cell_target) * (length[2] / cell_target);
+  if (box_cells > cell_limit) cell_target *= std::cbrt(box_cells / cell_limit);
+  std::array<int, 3> cells{};
+  for (int a = 0; a < 3; ++a) cells[a] = std::max(1, static_cast<int>(std::floor(length[a] / cell_target)));
   const Vec3 cell_size(length[0] / cells[0], length[1] / cells[1], length[2] / cells[2]);
 
   // Bin wrapped positions; clamp along walled axes (clamping keeps near pairs adjacent).
@@ -106,7 +112,7 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
       lo = std::clamp(lo, 0, cells[a] - 1);
       hi = std::clamp(hi, 0, cells[a] - 1);
     }
-    // At most 2 x 4 + 2 cells: the cell target is at least a quarter of the cutoff.
+    // At most 2 x 4 + 2 cells: a cell is at least a quarter of the cutoff wide.
     hi = std::min(hi, lo + static_cast<int>(range.cell.size()) - 1);
     for (int k = lo; k <= hi; ++k) {
       const int wrapped_k = ((k % cells[a]) + cells[a]) % cells[a];

@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""Table of several push tests (seeds, velocities), with mean and spread, for results/ pages.
+
+    /usr/bin/python3 studies/railway/push_table.py OUT [OUT2 ...] [--window-mm 0.25]
+
+OUT is a directory written by `mfdem push` or `mfdem push-test` (push.h5). Prints a Markdown
+table: seed, velocity, stones, elements, peak F and where, the peak of F(u) after a moving mean
+over --window-mm of displacement (the record interval is 0.01-0.02 mm, so the raw peak can be one
+stick-slip spike; the smoothed peak shows how much), F at u_end, the maximum contact force and its
+99.9 % quantile, the heave, the largest inertial number and the wall time. With two or more rows
+it adds the mean and the sample standard deviation. Needs h5py and numpy (Debian python3-h5py).
+"""
+import argparse
+import statistics
+import sys
+from pathlib import Path
+
+try:
+    import h5py
+    import numpy as np
+except ImportError as exc:  # the pyenv python3 first on PATH may lack them
+    sys.exit(f"push_table.py needs h5py and numpy ({exc}); run it with /usr/bin/python3")
+
+COLUMNS = [  # (header, key, scale, format)
+    ("peak F (kN)", "peak_force", 1e-3, "{:.3f}"),
+    ("at u (mm)", "u_at_peak", 1e3, "{:.2f}"),
+    ("smoothed peak (kN)", "smoothed_peak", 1e-3, "{:.3f}"),
+    ("F(u_end) (kN)", "end_force", 1e-3, "{:.3f}"),
+    ("max contact (kN)", "max_contact_force", 1e-3, "{:.3f}"),
+    ("q99.9 (kN)", "contact_force_q999", 1e-3, "{:.3f}"),
+    ("heave (mm)", "final_heave", 1e3, "{:+.2f}"),
+    ("max I", "max_inertial_number", 1.0, "{:.1e}"),
+    ("wall (min)", "wall_seconds", 1 / 60, "{:.1f}"),
+]
+
+
+def moving_mean_peak(u: np.ndarray, force: np.ndarray, window: float) -> float:
+    """Largest mean of F over any run of samples spanning `window` of displacement."""
+    if len(u) < 2:
+        return float(force.max()) if len(force) else float("nan")
+    spacing = float(np.median(np.diff(u)))
+    width = max(1, int(round(window / spacing)))
+    if width >= len(force):
+        return float(force.mean())
+    return float(np.convolve(force, np.ones(width) / width, mode="valid").max())
+
+
+def load(out: Path, window: float) -> dict:
+    path = out / "push.h5"
+    if not path.exists():
+        sys.exit(f"push_table.py: {path} not found (expected the directory of a push run)")
+    with h5py.File(path, "r") as f:
+        row = {k: float(f.attrs[k]) for k in ("peak_force", "u_at_peak", "max_contact_force",
+                                               "contact_force_q999", "final_heave",
+                                               "max_inertial_number", "wall_seconds", "velocity",
+                                               "stones", "elements")}
+        u, force = f["curve/u"][...], f["curve/force"][...]
+    row["end_force"] = float(force[-1]) if len(force) else float("nan")
+    row["smoothed_peak"] = moving_mean_peak(u, force, window)
+    summary = out / "push_summary.toml"
+    row["seed"] = "?"
+    if summary.exists():
+        for line in summary.read_text().splitlines():
+            if line.startswith("seed"):
+                row["seed"] = line.split("=", 1)[1].strip()
+    row["name"] = str(out)
+    return row
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("outs", nargs="+", type=Path, help="directories of push runs")
+    parser.add_argument("--window-mm", type=float, default=0.25,
+                        help="displacement window of the smoothed peak, mm (default 0.25)")
+    args = parser.parse_args()
+    if args.window_mm <= 0:
+        sys.exit(f"push_table.py: --window-mm must be > 0, got {args.window_mm}")
+    rows = [load(out, args.window_mm * 1e-3) for out in args.outs]
+    headers = ["run", "seed", "v (mm/s)", "stones", "elements"] + [c[0] for c in COLUMNS]
+    print("| " + " | ".join(headers) + " |")
+    print("|" + "---|" * len(headers))
+    for r in rows:
+        cells = [r["name"], r["seed"], f"{r['velocity'] * 1e3:g}", f"{r['stones']:,.0f}",
+                 f"{r['elements']:,.0f}"]
+        cells += [fmt.format(r[key] * scale) for _, key, scale, fmt in COLUMNS]
+        print("| " + " | ".join(cells) + " |")
+    if len(rows) >= 2:
+        for label, reduce in (("mean", statistics.mean), ("std", statistics.stdev)):
+            cells = [label, "", "", "", ""]
+            cells += [fmt.format(reduce([r[key] for r in rows]) * scale).replace("+", "")
+                      for _, key, scale, fmt in COLUMNS]
+            print("| " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
