@@ -5,9 +5,12 @@
 // 1. Stones. Draw stone k = 0, 1, ... from the shape library and the grading with its own seeded
 //    stream (fidelity::StoneSampler): template, sieve size, orientation. The count fills the
 //    container below up to the ballast top at the expected solid fraction, times `overfill`.
-// 2. Placement (stone_columns.hpp). Stones stand in columns over the container floor, none
-//    touching, each starting down at `drop_speed` x its height / the highest stone's: the
-//    columns collapse together, quicker than a free fall from rest.
+// 2. Placement (stone_columns.hpp). Stones stand in columns over the container floor, each
+//    dropped onto the pebbles below it with a 2 % gap, none touching, each starting down at
+//    `drop_speed` x its height / the highest stone's: the columns collapse together, quicker
+//    than a free fall from rest. The stones are then stored in Morton order of their positions
+//    (dem/spatial_order.hpp), and again after the trimming (step 4): neighbours in space are
+//    neighbours in memory, which makes a step of a large bed about 1.3x faster.
 // 3. Deposition (compaction). Between the floor and container walls at the shoulder toes, with
 //    the stone friction lowered to `deposition_friction` (a denser bed, as the "reduced
 //    friction" compaction of PFC studies) and local damping `deposition_local_damping` (0.2:
