@@ -18,6 +18,8 @@ namespace {
 // 2/5: moment of inertia of a solid sphere is (2/5) m R^2.
 constexpr double kSphereInertiaFactor = 0.4;
 constexpr double kPi = 3.14159265358979323846;
+// The automatic skin grows up to this multiple of its packed-bed value (adaptive_skin).
+constexpr double kMaxSkinFactor = 5.0;
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
@@ -157,6 +159,7 @@ void Simulation::prepare() {
   }
   base_skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
   skin_ = base_skin_;
+  check_boxes_clear_periodic_faces();
 
   const Index ne = elements_.size();
   const std::size_t nw = walls_.size();
@@ -191,6 +194,28 @@ void Simulation::prepare() {
                         std::abs(extent[2] * g_dir[2]);
   energy_scale_ = weight * height + e.kinetic() + e.elastic;
   last_good_ = snapshot();
+}
+
+// Box contacts take element positions as integrated, not their periodic images. That is exact
+// while a box keeps off the periodic faces: an element can be a periodic image away only in
+// the skin/2 it moves past a face before the next rebuild wraps it, so a box that stays more
+// than the largest radius + the largest skin/2 from a face never meets such an element.
+void Simulation::check_boxes_clear_periodic_faces() const {
+  const double largest_skin = settings_.skin > 0.0 ? settings_.skin : kMaxSkinFactor * base_skin_;
+  const double margin = largest_radius_ + 0.5 * largest_skin;
+  for (const auto& box : boxes_)
+    for (int a = 0; a < 3; ++a) {
+      if (!domain_.periodic[a]) continue;
+      const double low = box.centre[a] - box.half_extent[a] - domain_.min[a];
+      const double high = domain_.max[a] - (box.centre[a] + box.half_extent[a]);
+      if (std::min(low, high) < margin)
+        throw std::invalid_argument(fmt::format(
+            "box '{}' comes within {:.4g} m of the periodic faces along {} (its extent [{:.4g}, {:.4g}] m "
+            "in the domain [{:.4g}, {:.4g}] m); boxes must keep at least the largest element radius + "
+            "half the skin = {:.4g} m from them (box contacts do not see periodic images)",
+            box.name, std::min(low, high), "xyz"[a], box.centre[a] - box.half_extent[a],
+            box.centre[a] + box.half_extent[a], domain_.min[a], domain_.max[a], margin));
+    }
 }
 
 void Simulation::update_element_positions(Index b) {
@@ -381,7 +406,7 @@ void Simulation::release_opened_contacts() {
 // periodic axis allows (three cells of largest diameter + skin). The skin only decides how often
 // the list is rebuilt, never which contacts act (tests/physics/contact_history_rebuild_test.cpp).
 double Simulation::adaptive_skin() const {
-  constexpr double kStepsPerBuild = 40.0, kMaxFactor = 5.0;
+  constexpr double kStepsPerBuild = 40.0;
   const Index ne = elements_.size();
   double fastest = 0.0;  // m/s: bound on any element's speed, |v| + |w| |lever|
 #pragma omp parallel for schedule(static) reduction(max : fastest) if (ne > kChunkSize)
@@ -390,7 +415,7 @@ double Simulation::adaptive_skin() const {
     const double lever = (elements_.position[e] - bodies_.position[b]).norm();
     fastest = std::max(fastest, bodies_.velocity[b].norm() + bodies_.angular_velocity[b].norm() * lever);
   }
-  double ceiling = kMaxFactor * base_skin_;
+  double ceiling = kMaxSkinFactor * base_skin_;
   for (int a = 0; a < 3; ++a)
     if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / 3.0 - 2.0 * largest_radius_);
   const double wanted = 2.0 * fastest * dt_ * kStepsPerBuild;

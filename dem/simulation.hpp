@@ -154,6 +154,7 @@ class Simulation {
   void evaluate_pairs();
   void gather_and_kick();
   void check_stability();
+  void check_boxes_clear_periodic_faces() const;
   void update_element_positions(Index b);
   void place_elements(Index b, const Mat3& rotation);  // elements of body b, orientation given
   Index add_body(const ClumpSpec& body);

@@ -51,6 +51,13 @@ void validate(const SectionGeometry& g, double largest_stone) {
   need(g.section_length - g.sleeper_width >= largest_stone,
        fmt::format("sleeper_width = {} m: the crib between sleepers (section_length - sleeper_width = {} m) "
                    "must hold a stone ({} m)", g.sleeper_width, g.section_length - g.sleeper_width, largest_stone));
+  // The solver wants a box a pebble radius plus half a skin clear of periodic faces (its
+  // contacts see no periodic images): 1.2 D leaves that with room for the largest pebble.
+  if (g.periodic_along_track)
+    need(g.section_length - g.sleeper_width >= 1.2 * largest_stone,
+         fmt::format("sleeper_width = {} m: with periodic ends the crib (section_length - sleeper_width = {} m) "
+                     "must be at least 1.2 stones ({} m) wide", g.sleeper_width,
+                     g.section_length - g.sleeper_width, 1.2 * largest_stone));
 }
 
 }  // namespace mfdem::railway

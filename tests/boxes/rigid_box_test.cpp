@@ -127,3 +127,34 @@ TEST_CASE("the work of a driven box balances the energy it gives the spheres", "
   for (const auto& v : sim.bodies().velocity) slowest = std::min(slowest, v.x());
   CHECK(slowest > 0.0);
 }
+
+TEST_CASE("a box near a periodic face is refused with a message (box contacts see no images)",
+          "[box][periodic]") {
+  // Reference: the rule in Simulation::check_boxes_clear_periodic_faces, margin = largest
+  // radius + half the largest skin (here a given skin of 0.004 m: 0.02 + 0.002 = 0.022 m).
+  dem::Domain domain;
+  domain.min = Vec3(-0.5, 0.0, 0.0);
+  domain.max = Vec3(0.5, 0.3, 0.5);
+  domain.periodic = {false, true, false};
+  dem::SimulationSettings settings;
+  settings.skin = 0.004;
+  auto build = [&](double box_half_width) {
+    dem::Simulation sim(domain, stone_and_concrete(0.5), settings);
+    dem::SphereSpec s;
+    s.position = Vec3(0.3, 0.15, 0.1);
+    s.radius = 0.02;
+    sim.add_sphere(s);
+    dem::RigidBox box;
+    box.name = "sleeper";
+    box.half_extent = Vec3(0.1, box_half_width, 0.02);
+    box.centre = Vec3(0.0, 0.15, 0.2);
+    box.mass = 2.0;
+    box.material = 1;
+    sim.add_box(box);
+    sim.prepare();
+  };
+  CHECK_NOTHROW(build(0.15 - 0.023));  // 0.023 m from the faces
+  CHECK_THROWS_WITH(build(0.15 - 0.021),
+                    Catch::Matchers::Contains("box 'sleeper' comes within 0.021 m of the periodic faces along y") &&
+                        Catch::Matchers::Contains("= 0.022 m"));
+}

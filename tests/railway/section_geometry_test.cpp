@@ -46,6 +46,13 @@ TEST_CASE("bad section geometry is refused with the parameter, its value and the
     CHECK_THROWS_WITH(validate(g, stone), Catch::Contains("sleeper_width = 0.8 m") &&
                                               Catch::Contains("fit in the section"));
   }
+  SECTION("a periodic crib of one stone, too narrow to keep the sleeper clear of the periodic faces") {
+    g.sleeper_width = 0.6 - 0.07;  // a 0.07 m crib: one stone (0.063 m), less than 1.2 stones
+    CHECK_THROWS_WITH(validate(g, stone), Catch::Contains("with periodic ends the crib") &&
+                                              Catch::Contains("at least 1.2 stones (0.0756 m)"));
+    g.periodic_along_track = false;  // walls along the track: one stone is enough
+    CHECK_NOTHROW(validate(g, stone));
+  }
   SECTION("a periodic section shorter than three stones") {
     g.section_length = 0.15;
     g.sleeper_width = 0.1;
