@@ -179,6 +179,7 @@ void Simulation::prepare() {
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
   rebuild();
+  apply_initial_springs();
   evaluate_pairs();
   gather_and_kick_ = false;
   gather_and_kick();
@@ -194,6 +195,63 @@ void Simulation::prepare() {
                         std::abs(extent[2] * g_dir[2]);
   energy_scale_ = weight * height + e.kinetic() + e.elastic;
   last_good_ = snapshot();
+}
+
+void Simulation::set_initial_springs(std::vector<SpringState> springs) {
+  if (prepared_) throw std::logic_error("set_initial_springs after prepare()");
+  initial_springs_ = std::move(springs);
+}
+
+void Simulation::apply_initial_springs() {
+  const Index ne = elements_.size();
+  const auto nw = static_cast<Index>(walls_.size()), nx = static_cast<Index>(boxes_.size());
+  auto refuse = [](const SpringState& s, const std::string& why) {
+    throw std::invalid_argument(fmt::format("initial spring ({} {}, {}): {}",
+                                            s.kind == SpringState::Kind::kPair   ? "elements"
+                                            : s.kind == SpringState::Kind::kWall ? "element and wall"
+                                                                                 : "element and box",
+                                            s.first, s.second, why));
+  };
+  for (const SpringState& s : initial_springs_) {
+    if (s.first < 0 || s.first >= ne) refuse(s, fmt::format("element out of range (0-{})", ne - 1));
+    switch (s.kind) {
+      case SpringState::Kind::kPair: {
+        if (s.second <= s.first || s.second >= ne) refuse(s, "second element out of range or not after the first");
+        Index found = -1;
+        for (Index p = pairs_.row_start[s.first]; p < pairs_.row_start[s.first + 1]; ++p)
+          if (pairs_.second[p] == s.second) found = p;
+        if (found < 0) refuse(s, "the elements are not neighbours (not the bed the springs were saved from?)");
+        pair_history_[found] = s.history;
+        pair_active_[found] = 1;
+        break;
+      }
+      case SpringState::Kind::kWall:
+        if (s.second < 0 || s.second >= nw) refuse(s, fmt::format("wall out of range (0-{})", nw - 1));
+        wall_history_[s.first * nw + s.second] = s.history;
+        wall_active_[s.first * nw + s.second] = 1;
+        break;
+      case SpringState::Kind::kBox:
+        if (s.second < 0 || s.second >= nx) refuse(s, fmt::format("box out of range (0-{})", nx - 1));
+        box_history_[s.first * nx + s.second] = s.history;
+        box_active_[s.first * nx + s.second] = 1;
+        break;
+    }
+  }
+  initial_springs_.clear();
+}
+
+std::vector<SpringState> Simulation::contact_springs() const {
+  std::vector<SpringState> out;
+  for (Index p = 0; p < pairs_.size(); ++p)
+    if (pair_active_[p]) out.push_back({SpringState::Kind::kPair, pairs_.first[p], pairs_.second[p], pair_history_[p]});
+  const auto nw = static_cast<Index>(walls_.size()), nx = static_cast<Index>(boxes_.size());
+  for (Index e = 0; e < elements_.size(); ++e) {
+    for (Index w = 0; w < nw; ++w)
+      if (wall_active_[e * nw + w]) out.push_back({SpringState::Kind::kWall, e, w, wall_history_[e * nw + w]});
+    for (Index k = 0; k < nx; ++k)
+      if (box_active_[e * nx + k]) out.push_back({SpringState::Kind::kBox, e, k, box_history_[e * nx + k]});
+  }
+  return out;
 }
 
 // Box contacts take element positions as integrated, not their periodic images. That is exact

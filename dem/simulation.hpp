@@ -90,6 +90,18 @@ struct ContactRecord {
   double overlap = 0.0;
 };
 
+// The spring state of one active contact, by index: a pair of elements (first < second), an
+// element on a plane wall, or an element on a box. Saved with a settled bed, it lets a new
+// simulation of the same bed resume with the friction forces that hold it up; without them a
+// reloaded bed briefly carries no tangential force.
+struct SpringState {
+  enum class Kind : std::uint8_t { kPair = 0, kWall = 1, kBox = 2 };
+  Kind kind = Kind::kPair;
+  Index first = 0;   // element
+  Index second = 0;  // element (pair), wall index or box index
+  ContactHistory history;
+};
+
 class Simulation {
  public:
   Simulation(Domain domain, MaterialTable materials, SimulationSettings settings);
@@ -99,6 +111,9 @@ class Simulation {
   int add_wall(const PlaneWall& wall);
   int add_box(const RigidBox& box);
 
+  // Springs to start from (contact_springs() of a simulation of the same elements, walls and
+  // boxes, in the same order); applied by prepare() before the first force evaluation.
+  void set_initial_springs(std::vector<SpringState> springs);
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
   // list and evaluates the first forces. Call after adding bodies and walls.
   void prepare();
@@ -128,6 +143,7 @@ class Simulation {
   const Vec3& box_force(int k) const { return box_force_[k]; }
   EnergyReport energy() const;
   std::vector<ContactRecord> contacts() const;
+  std::vector<SpringState> contact_springs() const;  // every active contact, pairs first
   Index active_contact_count() const;
   // Mean unbalanced force ratio (PFC's equilibrium measure): the mean over bodies of the
   // magnitude of the net force (contacts and gravity, before local damping) over the mean
@@ -155,6 +171,8 @@ class Simulation {
   void gather_and_kick();
   void check_stability();
   void check_boxes_clear_periodic_faces() const;
+  void apply_initial_springs();
+  std::vector<SpringState> initial_springs_;
   void update_element_positions(Index b);
   void place_elements(Index b, const Mat3& rotation);  // elements of body b, orientation given
   Index add_body(const ClumpSpec& body);

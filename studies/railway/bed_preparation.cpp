@@ -163,6 +163,7 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   p.domain = domain;
   p.preparation_time = deposition.sim.time() + settling.sim.time();
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
+  p.springs = settling.sim.contact_springs();
   return p;
 }
 

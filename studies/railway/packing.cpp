@@ -24,6 +24,51 @@ dem::Vec3 read_vec3_attribute(hid_t loc, const std::string& name) {
   return v;
 }
 
+void write_springs(hid_t packing, const std::vector<dem::SpringState>& springs) {
+  const hid_t g = dem::h5::make_group(packing, "springs");
+  std::vector<dem::Index> kind, first, second;
+  std::vector<dem::Vec3> shear, rolling;
+  std::vector<double> damping;
+  for (const auto& s : springs) {
+    kind.push_back(static_cast<dem::Index>(s.kind));
+    first.push_back(s.first);
+    second.push_back(s.second);
+    shear.push_back(s.history.shear_force);
+    rolling.push_back(s.history.rolling_moment);
+    damping.push_back(s.history.damping_force);
+  }
+  dem::h5::write_ints(g, "kind", kind);
+  dem::h5::write_ints(g, "first", first);
+  dem::h5::write_ints(g, "second", second);
+  dem::h5::write_vec3s(g, "shear_force", shear);
+  dem::h5::write_vec3s(g, "rolling_moment", rolling);
+  dem::h5::write_doubles(g, "damping_force", damping);
+  H5Gclose(g);
+}
+
+std::vector<dem::SpringState> read_springs(hid_t packing) {
+  std::vector<dem::SpringState> springs;
+  if (H5Lexists(packing, "springs", H5P_DEFAULT) <= 0) return springs;  // an older packing
+  const hid_t g = H5Gopen2(packing, "springs", H5P_DEFAULT);
+  const auto kind = dem::h5::read_ints(g, "kind");
+  const auto first = dem::h5::read_ints(g, "first");
+  const auto second = dem::h5::read_ints(g, "second");
+  const auto shear = dem::h5::read_vec3s(g, "shear_force");
+  const auto rolling = dem::h5::read_vec3s(g, "rolling_moment");
+  const auto damping = dem::h5::read_doubles(g, "damping_force");
+  H5Gclose(g);
+  const std::size_t n = kind.size();
+  if (first.size() != n || second.size() != n || shear.size() != n || rolling.size() != n || damping.size() != n)
+    throw std::runtime_error(fmt::format("/packing/springs: datasets of different lengths (kind has {})", n));
+  for (std::size_t k = 0; k < n; ++k) {
+    if (kind[k] < 0 || kind[k] > 2)
+      throw std::runtime_error(fmt::format("/packing/springs/kind[{}] = {}: expected 0, 1 or 2", k, kind[k]));
+    springs.push_back({static_cast<dem::SpringState::Kind>(kind[k]), first[k], second[k],
+                       dem::ContactHistory{shear[k], rolling[k], damping[k]}});
+  }
+  return springs;
+}
+
 }  // namespace
 
 std::int64_t Packing::element_count() const {
@@ -56,7 +101,8 @@ void save_packing(const std::filesystem::path& path, const Packing& p) {
   StageSetup setup;
   setup.sleeper = p.sleeper;
   dem::Simulation sim = make_section_simulation(p.config, p.domain, p.bodies, setup);
-  sim.prepare();  // sizes the force records the frame holds; the bodies do not move
+  sim.set_initial_springs(p.springs);
+  sim.prepare();  // evaluates the contact forces the frame holds; the bodies do not move
   {
     dem::StateFile file(path, sim, fmt::format("prepared ballast bed, {} (seed {})", p.config.name, p.config.seed));
     file.write_frame(sim);
@@ -87,6 +133,7 @@ void save_packing(const std::filesystem::path& path, const Packing& p) {
   dem::h5::write_ints(g, "stone_id", ids);
   dem::h5::write_ints(g, "template", templates);
   dem::h5::write_doubles(g, "size", sizes);
+  write_springs(g, p.springs);
   H5Gclose(g);
   H5Fclose(file);
 }
@@ -123,6 +170,7 @@ Packing load_packing(const std::filesystem::path& path) {
     const auto templates = dem::h5::read_ints(g, "template");
     const auto sizes = dem::h5::read_doubles(g, "size");
     for (std::size_t k = 0; k < ids.size(); ++k) p.stones.push_back({ids[k], static_cast<int>(templates[k]), sizes[k]});
+    p.springs = read_springs(g);
     H5Gclose(g);
   } catch (const std::exception& e) {
     H5Fclose(file);

@@ -11,6 +11,13 @@
 //   /packing/stone_id       [bodies]  index of the stone's seeded draw (fidelity::StoneSampler)
 //   /packing/template       [bodies]  index of its template in the shape library
 //   /packing/size           [bodies]  sieve size d, m
+//   /packing/springs/       the springs of the active contacts at the end of the settling
+//                           (dem::SpringState): kind [n] (0 stone-stone, 1 wall, 2 sleeper),
+//                           first, second [n] (element, element / wall / box index),
+//                           shear_force, rolling_moment [n x 3] (N, N m), damping_force [n] (N).
+//                           A push resumes them, so the bed starts with the friction forces that
+//                           hold it. Packings written before they were kept have no group and
+//                           start from unloaded springs.
 // Every number is stored as the double the solver held, so a push from the file is bitwise the
 // push from memory.
 #include <cstdint>
@@ -36,6 +43,7 @@ struct Packing {
   dem::Domain domain;
   double preparation_time = 0.0;        // s simulated
   double unbalanced_force_ratio = 0.0;  // at the end of preparation
+  std::vector<dem::SpringState> springs;  // of its active contacts, element-indexed
 
   std::int64_t element_count() const;
 };

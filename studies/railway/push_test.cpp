@@ -75,6 +75,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   sleeper.driven = {true, true, false};
   stage.sleeper = sleeper;
   dem::Simulation sim = make_section_simulation(c, packing.domain, packing.bodies, stage);
+  sim.set_initial_springs(packing.springs);
   sim.prepare();
 
   PushResult r;

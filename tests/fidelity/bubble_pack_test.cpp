@@ -64,7 +64,7 @@ TEST_CASE("largest_new_volume covers more of the stone than farthest_point", "[f
   }
 }
 
-TEST_CASE("matching the volume gives the stone's volume; the inertia error falls with pebbles", "[fidelity][pack]") {
+TEST_CASE("matching the volume gives the stone's volume, and the inertia error falls with pebbles", "[fidelity][pack]") {
   const TriangleMesh stone = generate_stone(stone_spec);
   const double stone_volume = mesh_mass_properties(stone).volume;
   double previous_inertia_error = 1.0;

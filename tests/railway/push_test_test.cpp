@@ -109,6 +109,24 @@ TEST_CASE("a saved and reloaded packing is the same packing and pushes bitwise t
   REQUIRE(loaded.domain.periodic == original.domain.periodic);
   REQUIRE(loaded.config.text == original.config.text);
   REQUIRE(loaded.config.seed == original.config.seed);
+  // The springs of the settled bed's contacts come back exactly (stone-stone, floor, sleeper).
+  REQUIRE(original.springs.size() > original.bodies.size());
+  REQUIRE(loaded.springs.size() == original.springs.size());
+  int kinds[3] = {0, 0, 0};
+  for (std::size_t k = 0; k < loaded.springs.size(); ++k) {
+    const auto& a = loaded.springs[k];
+    const auto& b = original.springs[k];
+    REQUIRE(a.kind == b.kind);
+    REQUIRE(a.first == b.first);
+    REQUIRE(a.second == b.second);
+    REQUIRE(a.history.shear_force == b.history.shear_force);
+    REQUIRE(a.history.rolling_moment == b.history.rolling_moment);
+    REQUIRE(a.history.damping_force == b.history.damping_force);
+    ++kinds[static_cast<int>(a.kind)];
+  }
+  CHECK(kinds[0] > 0);
+  CHECK(kinds[1] > 0);
+  CHECK(kinds[2] > 0);
   REQUIRE(same_bits(forces(push_with(loaded, 1)), forces(push_with(original, 1))));
 }
 
