@@ -23,7 +23,8 @@
 // 4. Trimming and sleeper placement. Stones whose centre lies above the design surface (crib
 //    and shoulder crest at the sleeper top, the shoulder slope beyond) or which intersect the
 //    sleeper's volume are removed; the container walls go; the sleeper box is placed with its
-//    base at depth_under_sleeper, held across and along the track and free vertically.
+//    base at depth_under_sleeper, held along the track, free across it and vertically (it
+//    comes to rest where the bed's lateral forces balance, as a sleeper cut from its rails).
 // 5. Settling. With the design friction restored and local damping `local_damping`, the bed and
 //    the sleeper settle under gravity until at rest to `equilibrium_ratio`, or at
 //    `max_settling_time` (then the report says "settled NO" and the command warns).
