@@ -6,7 +6,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <type_traits>
 
 #include "dem/spatial_order.hpp"
 #include "studies/railway/section_simulation.hpp"
@@ -84,13 +83,9 @@ double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
   return top;
 }
 
-template <class Stone>
-std::vector<dem::Vec3> positions_of(const std::vector<Stone>& stones) {
+std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
   std::vector<dem::Vec3> x;
-  for (const Stone& s : stones) {
-    if constexpr (std::is_same_v<Stone, DrawnStone>) x.push_back(s.body.position);
-    else x.push_back(s.position);
-  }
+  for (const auto& b : bodies) x.push_back(b.position);
   return x;
 }
 
@@ -111,11 +106,14 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   drawn = place_in_columns(c, std::move(drawn));
   double mean_size = 0.0;
   for (const auto& s : drawn) mean_size += s.record.size / static_cast<double>(count);
-  drawn = dem::permuted(drawn, dem::morton_order(positions_of(drawn), mean_size));
   report.stones_generated = count;
 
   std::vector<dem::ClumpSpec> bodies;
   for (const auto& s : drawn) bodies.push_back(s.body);
+  // Stored in space order: neighbours in space are neighbours in memory (dem/spatial_order.hpp).
+  const std::vector<dem::Index> placed_order = dem::morton_order(positions_of(bodies), mean_size);
+  drawn = dem::permuted(drawn, placed_order);
+  bodies = dem::permuted(bodies, placed_order);
   const dem::Domain domain = section_domain(c, highest_point(bodies) + 0.1);
 
   // Step 3: deposition with lowered friction inside the container.
