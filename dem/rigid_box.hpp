@@ -4,6 +4,7 @@
 // The lateral push test drives a sleeper along x, holds it along y and leaves it free along z
 // under its own weight.
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -55,6 +56,19 @@ inline std::optional<BoxContact> sphere_box_contact(const Vec3& x, double r, con
   c.surface_point = x;
   c.surface_point[axis] = centre[axis] + c.normal[axis] * half[axis];
   return c;
+}
+
+// The faces of a box, for splitting the force on it by where it acts (a sleeper's base, sides and
+// ends carry its lateral resistance in different ways): 2 x axis, + 1 on the positive side.
+enum BoxFace : int { kMinusX = 0, kPlusX, kMinusY, kPlusY, kMinusZ, kPlusZ, kBoxFaces };
+
+// The face a contact leans on: the axis of the normal's largest component, on its side. An edge
+// or corner contact counts to one face only, so the faces' forces add up to the total.
+inline BoxFace box_face(const Vec3& normal) {
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(normal[a]) > std::abs(normal[axis])) axis = a;
+  return static_cast<BoxFace>(2 * axis + (normal[axis] > 0.0 ? 1 : 0));
 }
 
 }  // namespace mfdem::dem

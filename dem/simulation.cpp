@@ -170,6 +170,8 @@ void Simulation::prepare() {
   box_history_.assign(ne * nx, ContactHistory{});
   box_active_.assign(ne * nx, 0);
   box_force_.assign(nx, Vec3::Zero());
+  box_face_force_.assign(nx, std::array<Vec3, kBoxFaces>{});
+  for (auto& faces : box_face_force_) faces.fill(Vec3::Zero());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
   clump_bodies_.clear();
@@ -720,6 +722,9 @@ void Simulation::gather_and_kick() {
   chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
   const std::size_t nx = boxes_.size();
   chunk_box_force_.assign(chunks * nx, Vec3::Zero());
+  std::array<Vec3, kBoxFaces> no_faces;
+  no_faces.fill(Vec3::Zero());
+  chunk_box_face_force_.assign(chunks * nx, no_faces);
   const double dt = dt_;
   const double half = 0.5 * dt_;
   const bool kick_now = gather_and_kick_;
@@ -825,6 +830,7 @@ void Simulation::gather_and_kick() {
           fe += out.force;
           te += arm.cross(out.force) + out.rolling_moment;
           chunk_box_force_[c * nx + k] -= out.force;
+          chunk_box_face_force_[c * nx + k][box_face(g.normal)] -= out.force;
           acc.damping += out.dissipated_damping;
           acc.friction += out.dissipated_friction;
           // Work of the drive: only driven axes put energy in; free axes trade kinetic energy.
@@ -862,9 +868,13 @@ void Simulation::gather_and_kick() {
     for (Index c = 0; c < chunks; ++c) sum += chunk_wall_force_[c * nw + w];
     wall_force_[w] = sum;
   }
+  box_face_force_.assign(nx, no_faces);
   for (std::size_t k = 0; k < nx; ++k) {
     Vec3 sum = Vec3::Zero();
-    for (Index c = 0; c < chunks; ++c) sum += chunk_box_force_[c * nx + k];
+    for (Index c = 0; c < chunks; ++c) {
+      sum += chunk_box_force_[c * nx + k];
+      for (int f = 0; f < kBoxFaces; ++f) box_face_force_[k][f] += chunk_box_face_force_[c * nx + k][f];
+    }
     box_force_[k] = sum;
   }
   for (const auto& acc : body_chunk_energy_) {

@@ -9,6 +9,7 @@
 //      gravity and local damping; second half kick.
 // Every floating-point sum has an order that does not depend on the thread count, so 1 and 2
 // threads give bitwise identical trajectories.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -141,6 +142,9 @@ class Simulation {
   std::vector<RigidBox>& mutable_boxes() { return boxes_; }
   // Force the elements exert on box k during the last step, N.
   const Vec3& box_force(int k) const { return box_force_[k]; }
+  // The same split by the face it acts on (box_face in rigid_box.hpp); they add up to box_force
+  // up to round-off.
+  const std::array<Vec3, kBoxFaces>& box_face_forces(int k) const { return box_face_force_[k]; }
   EnergyReport energy() const;
   std::vector<ContactRecord> contacts() const;
   std::vector<SpringState> contact_springs() const;  // every active contact, pairs first
@@ -238,6 +242,8 @@ class Simulation {
   std::vector<std::uint8_t> box_active_;
   std::vector<Vec3> box_force_;
   std::vector<Vec3> chunk_box_force_;         // [chunk * boxes + box]
+  std::vector<std::array<Vec3, kBoxFaces>> box_face_force_;
+  std::vector<std::array<Vec3, kBoxFaces>> chunk_box_face_force_;  // [chunk * boxes + box]
   void kick_boxes(double h);
   std::vector<Vec3> wall_force_;
   std::vector<Vec3> chunk_wall_force_;  // [chunk * walls + wall]

@@ -17,7 +17,9 @@ const char* const kPushDefinitions =
     "record interval, against the sleeper's lateral displacement u. Peak lateral force: max F(u) for u in "
     "[0, u_end]. Maximum particle contact force: max |f| over stone-stone contacts at u_end; q99.9: its "
     "99.9 % nearest-rank quantile. Inertial number I = (v / sleeper height) d_mean / sqrt(p / rho), p the "
-    "mean stress of the stone contacts over the bed.";
+    "mean stress of the stone contacts over the bed. Base, crib, shoulder: the parts of F carried by the "
+    "sleeper's bottom face, its two sides along the track and its two ends (each contact counted to the face "
+    "it leans on most).";
 
 namespace {
 
@@ -51,6 +53,10 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_doubles(file, "curve/force", column(r.curve, [](auto& s) { return s.force; }));
   write_doubles(file, "curve/heave", column(r.curve, [](auto& s) { return s.heave; }));
   write_doubles(file, "curve/time", column(r.curve, [](auto& s) { return s.time; }));
+  write_doubles(file, "curve/base", column(r.curve, [](auto& s) { return s.parts.base; }));
+  write_doubles(file, "curve/crib", column(r.curve, [](auto& s) { return s.parts.crib; }));
+  write_doubles(file, "curve/shoulder", column(r.curve, [](auto& s) { return s.parts.shoulder; }));
+  write_doubles(file, "curve/top", column(r.curve, [](auto& s) { return s.parts.top; }));
   write_doubles(file, "network/u", column(r.network, [](auto& s) { return s.u; }));
   write_doubles(file, "network/mean_stress", column(r.network, [](auto& s) { return s.mean_stress; }));
   write_doubles(file, "network/inertial_number", column(r.network, [](auto& s) { return s.inertial_number; }));
@@ -83,9 +89,11 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
   out << fmt::format(
       "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\n"
       "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
+      "peak_base = {:.6g}\npeak_crib = {:.6g}\npeak_shoulder = {:.6g}\npeak_top = {:.6g}\n"
       "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
-      r.contact_force_q999, r.mean_contact_force, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.contact_force_q999, r.mean_contact_force, r.parts_at_peak.base, r.parts_at_peak.crib,
+      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
 }
 
@@ -98,6 +106,13 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));
   row("peak lateral force (kN)", fmt::format("{:.3f}", r.peak_force * 1e-3));
   row("  at u (mm)", fmt::format("{:.3f}", r.u_at_peak * 1e3));
+  const auto share = [&](double part) {
+    return fmt::format("{:.3f} ({:.0f} %)", part * 1e-3, r.peak_force > 0.0 ? 100.0 * part / r.peak_force : 0.0);
+  };
+  row("  base: sleeper bottom (kN)", share(r.parts_at_peak.base));
+  row("  crib: sides along the track (kN)", share(r.parts_at_peak.crib));
+  row("  shoulder: sleeper ends (kN)", share(r.parts_at_peak.shoulder));
+  if (r.parts_at_peak.top != 0.0) row("  top face (kN)", share(r.parts_at_peak.top));
   row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));
   row("max particle contact force (kN)", fmt::format("{:.3f}", r.max_contact_force * 1e-3));
   row("  99.9 % quantile (kN)", fmt::format("{:.3f}", r.contact_force_q999 * 1e-3));

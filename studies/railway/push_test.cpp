@@ -34,7 +34,7 @@ NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& 
 
 void summarise_curve(PushResult& r) {
   for (const auto& s : r.curve)
-    if (s.force > r.peak_force) r.peak_force = s.force, r.u_at_peak = s.u;
+    if (s.force > r.peak_force) r.peak_force = s.force, r.u_at_peak = s.u, r.parts_at_peak = s.parts;
   r.final_heave = r.curve.back().heave;
   for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
 }
@@ -53,6 +53,15 @@ void collect_end_state(const dem::Simulation& sim, PushResult& r) {
 }
 
 }  // namespace
+
+ResistanceParts resistance_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f) {
+  ResistanceParts p;
+  p.base = -f[dem::kMinusZ].x();
+  p.top = -f[dem::kPlusZ].x();
+  p.crib = -(f[dem::kMinusY].x() + f[dem::kPlusY].x());
+  p.shoulder = -(f[dem::kMinusX].x() + f[dem::kPlusX].x());
+  return p;
+}
 
 double bed_volume(const SectionGeometry& g) {
   const double profile = (g.crest_half_width() + g.toe_half_width()) * g.ballast_top();
@@ -107,7 +116,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   const std::int64_t network_every = std::max<std::int64_t>(1, total / c.push.network_samples);
   const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(1e-3 / (run.velocity * dt)));
   const double x0 = sim.boxes()[0].centre.x(), z0 = sim.boxes()[0].centre.z();
-  r.curve.push_back({0.0, -sim.box_force(0).x(), 0.0, 0.0});
+  r.curve.push_back({0.0, -sim.box_force(0).x(), 0.0, 0.0, resistance_parts(sim.box_face_forces(0))});
   r.network.push_back(sample_network(sim, c, 0.0, run.velocity, mean_size, volume));
 
   std::optional<dem::StateFile> frames;
@@ -118,6 +127,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   scene::Progress progress("push", run.distance * 1e3, run.quiet);
   const auto start = std::chrono::steady_clock::now();
   double force_sum = 0.0;
+  ResistanceParts parts_sum;
   std::int64_t in_interval = 0;
   std::int64_t k = 1;
   try {
@@ -130,11 +140,19 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
                    r.elements, dt, total, scene::format_duration(per_step * total));
       }
       force_sum += -sim.box_force(0).x();
+      const ResistanceParts now = resistance_parts(sim.box_face_forces(0));
+      parts_sum.base += now.base;
+      parts_sum.crib += now.crib;
+      parts_sum.shoulder += now.shoulder;
+      parts_sum.top += now.top;
       ++in_interval;
       const double u = sim.boxes()[0].centre.x() - x0;
       if (k % record_every == 0 || k == total) {
-        r.curve.push_back({u, force_sum / in_interval, sim.boxes()[0].centre.z() - z0, sim.time()});
+        const double n = static_cast<double>(in_interval);
+        const ResistanceParts mean{parts_sum.base / n, parts_sum.crib / n, parts_sum.shoulder / n, parts_sum.top / n};
+        r.curve.push_back({u, force_sum / n, sim.boxes()[0].centre.z() - z0, sim.time(), mean});
         force_sum = 0.0;
+        parts_sum = ResistanceParts{};
         in_interval = 0;
         progress.update(u * 1e3, fmt::format("u = {:.3f} mm  F = {:.3f} kN", u * 1e3, r.curve.back().force * 1e-3));
       }

@@ -14,6 +14,7 @@
 //   size, rho the stone density, p the mean stress of the stone contacts over the bed,
 //   p = sum_c f_c . l_c / (3 V) (l_c the branch vector between the stones' centres, V the
 //   bed's volume). I << 1e-3 is the quasi-static regime (GDR MiDi 2004).
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -25,12 +26,25 @@
 
 namespace mfdem::railway {
 
+// Where the sleeper's lateral resistance comes from, as single-sleeper push tests split it
+// (e.g. Le Pen & Powrie 2011, Proc. IMechE F 225:113-128): the parts of F(u) carried by its base
+// (bottom face), its sides facing the cribs (the faces normal to the track), its ends facing the
+// shoulders (normal to the push) and its top. Each contact counts to the face it leans on most
+// (dem::box_face); the parts add up to F(u).
+struct ResistanceParts {
+  double base = 0.0, crib = 0.0, shoulder = 0.0, top = 0.0;  // N
+};
+
 struct ForceSample {
   double u = 0.0;       // sleeper displacement, m
   double force = 0.0;   // F(u), N
   double heave = 0.0;   // sleeper rise since the start, m
   double time = 0.0;    // s since the push began
+  ResistanceParts parts;  // of F(u), mean over the same interval
 };
+
+// The parts of F = -(force on the sleeper).x by face.
+ResistanceParts resistance_parts(const std::array<dem::Vec3, dem::kBoxFaces>& faces);
 
 struct NetworkSample {
   double u = 0.0;
@@ -46,6 +60,7 @@ struct PushResult {
   std::vector<ForceSample> curve;
   std::vector<NetworkSample> network;
   double peak_force = 0.0, u_at_peak = 0.0;
+  ResistanceParts parts_at_peak;          // of the peak sample
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
   double final_heave = 0.0;

@@ -158,3 +158,54 @@ TEST_CASE("a box near a periodic face is refused with a message (box contacts se
                     Catch::Matchers::Contains("box 'sleeper' comes within 0.021 m of the periodic faces along y") &&
                         Catch::Matchers::Contains("= 0.022 m"));
 }
+
+TEST_CASE("the force on a box is split by the face each contact leans on", "[box][faces]") {
+  // Reference: Hooke's law at rest. A sphere pressed into each of four faces by 1 mm, one of
+  // them into an edge of the +x end (normal (3, 0, 4)/5, counted to +z, its larger component).
+  // At the first evaluation nothing moves, so each contact pushes the box by kn d along minus its
+  // normal, kn = 2e6 x 5e9 / (2e6 + 5e9) (series); the faces add up to the total. Tolerance 1e-12
+  // relative: round-off of one contact.
+  dem::Domain domain;
+  domain.min = Vec3(-1.0, -1.0, -1.0);
+  domain.max = Vec3(1.0, 1.0, 1.0);
+  dem::SimulationSettings settings;
+  settings.gravity = Vec3::Zero();
+  dem::Simulation sim(domain, stone_and_concrete(0.5), settings);
+  const double r = 0.02, d = 0.001;
+  const Vec3 half(0.3, 0.1, 0.05);
+  const Vec3 edge_normal(0.6, 0.0, 0.8);
+  struct Placed {
+    Vec3 position, normal;
+    dem::BoxFace face;
+  };
+  const Placed placed[] = {
+      {Vec3(0.0, 0.0, -half.z() - r + d), -Vec3::UnitZ(), dem::kMinusZ},
+      {Vec3(0.1, half.y() + r - d, 0.0), Vec3::UnitY(), dem::kPlusY},
+      {Vec3(-half.x() - r + d, 0.0, 0.0), -Vec3::UnitX(), dem::kMinusX},
+      {Vec3(half.x(), 0.0, half.z()) + (r - d) * edge_normal, edge_normal, dem::kPlusZ},
+  };
+  for (const auto& p : placed) {
+    dem::SphereSpec s;
+    s.position = p.position;
+    s.radius = r;
+    sim.add_sphere(s);
+  }
+  dem::RigidBox box;
+  box.name = "sleeper";
+  box.half_extent = half;
+  box.mass = 10.0;
+  box.material = 1;
+  sim.add_box(box);
+  sim.prepare();
+  const double kn = 2e6 * 5e9 / (2e6 + 5e9);
+  const auto& faces = sim.box_face_forces(0);
+  Vec3 sum = Vec3::Zero();
+  for (const auto& f : faces) sum += f;
+  CHECK((sum - sim.box_force(0)).norm() < 1e-12 * sim.box_force(0).norm() + 1e-12);
+  for (const auto& p : placed) {
+    CAPTURE(p.face, faces[p.face].transpose());
+    CHECK(dem::box_face(p.normal) == p.face);
+    CHECK((faces[p.face] + kn * d * p.normal).norm() < 1e-12 * kn * d);
+  }
+  for (dem::BoxFace empty : {dem::kPlusX, dem::kMinusY}) CHECK(faces[empty].norm() == 0.0);
+}

@@ -148,6 +148,15 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
     if (s.u > 0.5 * r.distance) late += s.force, ++n;
   CHECK(late / n > 10.0 * std::abs(r.curve.front().force));
   CHECK(r.u_at_peak > 0.1 * r.distance);
+  // Base, crib, shoulder and top carry all of F (each contact counts to one face), to
+  // round-off; the base, dragged over the bed under the sleeper's weight, resists.
+  for (const auto& s : r.curve) {
+    const auto& q = s.parts;
+    CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - s.force) < 1e-9 * (std::abs(s.force) + 1.0));
+  }
+  const auto& at_peak = r.parts_at_peak;
+  INFO("parts at the peak: base " << at_peak.base << ", crib " << at_peak.crib << ", shoulder " << at_peak.shoulder);
+  CHECK(at_peak.base > 0.0);
   // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
   CHECK(r.mean_contact_force < r.contact_force_q999);
   CHECK(r.contact_force_q999 <= r.max_contact_force);
