@@ -4,10 +4,13 @@
     /usr/bin/python3 studies/railway/plot_push.py OUT [OUT2 ...] --save figure.png
 
 OUT is a directory holding push.h5 (and packing.h5 for the sleeper outline, optional). The
-figure has three panels: F(u) and the sleeper heave against u for every OUT; the end-state force
-chains of the first OUT seen along the track (x-z), each stone-stone contact a line between the
-stones' centres, width and shade by force; and the stones' displacement field at u_end (x-z),
-arrows scaled up, coloured by magnitude. Uses matplotlib and h5py (Debian python3-matplotlib,
+figure has three panels: F(u) and the sleeper heave against u for every OUT, with the first
+OUT's F split into the parts its base, crib sides and shoulder ends carry (thin lines); the
+end-state force chains of the first OUT seen along the track (x-z), each stone-stone contact a
+line between the stones' centres, width and shade by force; and the stones' displacement field at
+u_end (x-z), arrows scaled up, coloured by magnitude (the colour scale ends at the 99th
+percentile, so a few stones still falling do not wash out the rest). A bed much wider than deep
+(a full-size section) gets its two section views stacked at full width below the curves. Uses matplotlib and h5py (Debian python3-matplotlib,
 python3-h5py; run with /usr/bin/python3).
 """
 import argparse
@@ -28,6 +31,8 @@ except ImportError as exc:  # the pyenv python3 first on PATH may lack them
 def load(out: Path) -> dict:
     with h5py.File(out / "push.h5", "r") as f:
         data = {k: f["curve"][k][...] for k in ("u", "force", "heave")}
+        # Packings pushed before the split by face have no parts.
+        data["parts"] = {k: f["curve"][k][...] for k in ("base", "crib", "shoulder") if k in f["curve"]}
         data.update({k: f.attrs[k] for k in ("peak_force", "u_at_peak", "max_contact_force",
                                              "contact_force_q999", "velocity")})
         end = f["end_state"]
@@ -74,8 +79,17 @@ def main() -> None:
     runs = [load(o) for o in args.outs]
     labels = args.labels or [str(o) for o in args.outs]
 
-    fig = plt.figure(figsize=(15, 4.8), constrained_layout=True)
-    axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1.4, 1.4]})
+    pos0 = runs[0]["position"]
+    wide = np.ptp(pos0[:, 0]) > 3.0 * np.ptp(pos0[:, 2])
+    if wide:  # curves on top, each section view at full width below
+        fig = plt.figure(figsize=(13, 11), constrained_layout=True)
+        grid = fig.add_gridspec(3, 2, height_ratios=[1.3, 1, 1])
+        axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[1, :]), fig.add_subplot(grid[2, :])]
+        parts_ax = fig.add_subplot(grid[0, 1])
+    else:
+        fig = plt.figure(figsize=(15, 4.8), constrained_layout=True)
+        axes = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1, 1.4, 1.4]})
+        parts_ax = axes[0]
     ax = axes[0]
     heave_ax = ax.twinx()
     for run, label in zip(runs, labels):
@@ -87,6 +101,17 @@ def main() -> None:
     heave_ax.set_ylabel("sleeper heave (mm), dashed")
     ax.legend(fontsize=8, loc="lower right")
     ax.set_title("Lateral resistance")
+    if runs[0]["parts"]:
+        styles = {"base": ":", "crib": "-.", "shoulder": (0, (5, 1))}
+        for name, part in runs[0]["parts"].items():
+            parts_ax.plot(runs[0]["u"] * 1e3, part * 1e-3, lw=0.9, ls=styles[name], color="0.3" if not wide else None,
+                          label=f"{labels[0]}: {name}")
+        if wide:
+            parts_ax.plot(runs[0]["u"] * 1e3, runs[0]["force"] * 1e-3, lw=1.2, color="k", label=f"{labels[0]}: F")
+            parts_ax.set_xlabel("sleeper displacement u (mm)")
+            parts_ax.set_ylabel("part of F (kN)")
+            parts_ax.set_title("Where the resistance comes from: base, crib sides, shoulder ends")
+            parts_ax.legend(fontsize=8, loc="upper left")
 
     run = runs[0]
     ax = axes[1]
@@ -111,9 +136,12 @@ def main() -> None:
     ax = axes[2]
     d = run["displacement"]
     mag = np.linalg.norm(d, axis=1) * 1e3
-    q = ax.quiver(pos[:, 0], pos[:, 2], d[:, 0], d[:, 2], mag, cmap="viridis", angles="xy",
-                  scale_units="xy", scale=max(np.abs(d[:, [0, 2]]).max(), 1e-12) / 0.04, width=0.003)
-    fig.colorbar(q, ax=ax, label="stone displacement (mm)", shrink=0.8)
+    top = max(np.percentile(mag, 99), 1e-9)
+    arrow = top * 1e-3
+    shown = d * np.minimum(1.0, top / np.maximum(mag, 1e-12))[:, None]  # arrows capped like the colours
+    q = ax.quiver(pos[:, 0], pos[:, 2], shown[:, 0], shown[:, 2], np.minimum(mag, top), cmap="viridis", angles="xy",
+                  scale_units="xy", scale=arrow / 0.04, width=0.0015 if wide else 0.003, clim=(0, top))
+    fig.colorbar(q, ax=ax, label="stone displacement (mm, capped at the 99th percentile)", shrink=0.8)
     section_view(ax, run, pos)
     ax.set_title("Displacement field at u_end (x-z, arrows not to scale)", fontsize=9)
     fig.savefig(args.save, dpi=130)
