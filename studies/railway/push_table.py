@@ -7,7 +7,8 @@ OUT is a directory written by `mfdem push` or `mfdem push-test` (push.h5). Print
 table: seed, velocity, stones, elements, peak F and where, the peak of F(u) after a moving mean
 over --window-mm of displacement (the record interval is 0.01-0.02 mm, so the raw peak can be one
 stick-slip spike; the smoothed peak shows how much), F at u_end, the maximum contact force and its
-99.9 % quantile, the heave, the largest inertial number and the wall time. With two or more rows
+99.9 % quantile, the shares of the peak carried by the sleeper's base, crib sides and shoulder
+ends (nan for runs written before that split), the heave, the largest inertial number and the wall time. With two or more rows
 it adds the mean and the sample standard deviation. Needs h5py and numpy (Debian python3-h5py).
 """
 import argparse
@@ -26,6 +27,9 @@ COLUMNS = [  # (header, key, scale, format)
     ("at u (mm)", "u_at_peak", 1e3, "{:.2f}"),
     ("smoothed peak (kN)", "smoothed_peak", 1e-3, "{:.3f}"),
     ("F(u_end) (kN)", "end_force", 1e-3, "{:.3f}"),
+    ("base at peak (%)", "base_share", 100.0, "{:.0f}"),
+    ("crib (%)", "crib_share", 100.0, "{:.0f}"),
+    ("shoulder (%)", "shoulder_share", 100.0, "{:.0f}"),
     ("max contact (kN)", "max_contact_force", 1e-3, "{:.3f}"),
     ("q99.9 (kN)", "contact_force_q999", 1e-3, "{:.3f}"),
     ("heave (mm)", "final_heave", 1e3, "{:+.2f}"),
@@ -55,6 +59,10 @@ def load(out: Path, window: float) -> dict:
                                                "max_inertial_number", "wall_seconds", "velocity",
                                                "stones", "elements")}
         u, force = f["curve/u"][...], f["curve/force"][...]
+        peak = int(np.argmax(force)) if len(force) else 0
+        for part in ("base", "crib", "shoulder"):
+            key = f"curve/{part}"
+            row[f"{part}_share"] = float(f[key][peak] / force[peak]) if key in f and len(force) else float("nan")
     row["end_force"] = float(force[-1]) if len(force) else float("nan")
     row["smoothed_peak"] = moving_mean_peak(u, force, window)
     summary = out / "push_summary.toml"
