@@ -61,6 +61,7 @@ fs::path pack(const PackOptions& o) {
                                                               o.keep_stages ? o.common.out : fs::path());
   const fs::path file = o.common.out / "packing.h5";
   railway::save_packing(file, packing);
+  railway::append_stage_reports(file, report.stages);
   print_preparation(std::cout, packing, report);
   fmt::print("  written: {}\n", file.string());
   for (const auto& s : report.stages)

@@ -138,6 +138,25 @@ void save_packing(const std::filesystem::path& path, const Packing& p) {
   H5Fclose(file);
 }
 
+void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot reopen " + path.string());
+  const hid_t all = dem::h5::make_group(file, "packing/stages");
+  for (const auto& s : stages) {
+    const hid_t g = dem::h5::make_group(all, s.name.c_str());
+    dem::h5::write_attribute(g, "simulated_time", s.simulated_time);
+    dem::h5::write_attribute(g, "steps", static_cast<double>(s.steps));
+    dem::h5::write_attribute(g, "settled", s.settled ? 1.0 : 0.0);
+    dem::h5::write_attribute(g, "wall_seconds", s.wall_seconds);
+    dem::h5::write_doubles(g, "time", s.check_time);
+    dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
+    dem::h5::write_doubles(g, "kinetic_ratio", s.check_kinetic_ratio);
+    H5Gclose(g);
+  }
+  H5Gclose(all);
+  H5Fclose(file);
+}
+
 Packing load_packing(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path))
     throw std::runtime_error(fmt::format("{}: no such file (expected a packing.h5 written by `mfdem pack`, "

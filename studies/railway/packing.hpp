@@ -18,6 +18,10 @@
 //                           A push resumes them, so the bed starts with the friction forces that
 //                           hold it. Packings written before they were kept have no group and
 //                           start from unloaded springs.
+//   /packing/stages/NAME/   of each preparation stage (written by append_stage_reports): attrs
+//                           simulated_time, steps, settled (1/0), wall_seconds; at each
+//                           equilibrium check [n]: time (s since the stage began),
+//                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d).
 // Every number is stored as the double the solver held, so a push from the file is bitwise the
 // push from memory.
 #include <cstdint>
@@ -26,6 +30,7 @@
 
 #include "dem/simulation.hpp"
 #include "studies/railway/push_config.hpp"
+#include "studies/railway/stage_runner.hpp"
 
 namespace mfdem::railway {
 
@@ -53,6 +58,8 @@ std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim);
 
 // Writes `path` (and path.xdmf).
 void save_packing(const std::filesystem::path& path, const Packing& packing);
+// Adds the preparation stages' reports to a saved packing (/packing/stages).
+void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages);
 // Throws std::runtime_error naming the file and what is missing.
 Packing load_packing(const std::filesystem::path& path);
 

@@ -48,6 +48,9 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     const double kinetic = sim.energy().kinetic() / energy_scale;
     const bool forces_balanced =
         criterion == RestCriterion::kEnergyOnly || r.unbalanced_force_ratio < ratio_target;
+    r.check_time.push_back(sim.time() - t0);
+    r.check_force_ratio.push_back(r.unbalanced_force_ratio);
+    r.check_kinetic_ratio.push_back(kinetic);
     below = forces_balanced && kinetic < ratio_target ? below + 1 : 0;
     progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
                                                  r.unbalanced_force_ratio, kinetic, ratio_target));

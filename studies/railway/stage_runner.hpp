@@ -9,6 +9,7 @@
 // fixed step counts, so a stage ends on the same step whatever the thread count.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "dem/simulation.hpp"
 #include "dem/state_file.hpp"
@@ -22,6 +23,9 @@ struct StageReport {
   double unbalanced_force_ratio = 0.0;
   bool settled = false;            // false: stopped by the time limit
   double wall_seconds = 0.0;
+  // At every check: simulated time since the stage began (s), the unbalanced force ratio and the
+  // kinetic energy over the energy scale. How the bed came to rest, or did not.
+  std::vector<double> check_time, check_force_ratio, check_kinetic_ratio;
 };
 
 // `check_interval` in simulated seconds. With `frames`, writes the state every `frame_interval`

@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include <hdf5.h>
+
+#include "dem/hdf5_io.hpp"
 #include "tests/railway/tiny_bed.hpp"
 
 #include "tests/support/run_mfdem.hpp"
@@ -41,6 +44,28 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
   const auto pack = run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"});
   REQUIRE(pack.status == 0);
   CHECK_THAT(pack.out, Catch::Contains("Packed bed: tiny (seed 7)"));
+  {  // The packing keeps how each stage came to rest: a check every 2 ms of simulated time
+     // (stage_runner.hpp), the last within one interval of the stage's end.
+    const hid_t file = H5Fopen((bed + "/packing.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    REQUIRE(file >= 0);
+    for (const char* stage : {"deposit", "settle"}) {
+      CAPTURE(stage);
+      const std::string g = fmt::format("packing/stages/{}/", stage);
+      const auto time = mfdem::dem::h5::read_doubles(file, g + "time");
+      const auto ratio = mfdem::dem::h5::read_doubles(file, g + "unbalanced_force_ratio");
+      const auto kinetic = mfdem::dem::h5::read_doubles(file, g + "kinetic_ratio");
+      REQUIRE(time.size() >= 2);
+      CHECK(ratio.size() == time.size());
+      CHECK(kinetic.size() == time.size());
+      for (std::size_t k = 1; k < time.size(); ++k) CHECK(time[k] - time[k - 1] == Approx(2e-3).epsilon(0.01));
+      const hid_t group = H5Gopen2(file, g.c_str(), H5P_DEFAULT);
+      const double simulated = mfdem::dem::h5::read_attribute(group, "simulated_time");
+      H5Gclose(group);
+      CHECK(time.back() <= simulated + 1e-12);
+      CHECK(time.back() > simulated - 2e-3 * 1.01);
+    }
+    H5Fclose(file);
+  }
   const std::string push_dir = bed + "/push";
   const auto push = run_mfdem({"push", bed, "--check-rate", "--distance", "0.5", "--out", push_dir, "-q", "--threads", "1"});
   REQUIRE(push.status == 0);
