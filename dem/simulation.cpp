@@ -21,6 +21,13 @@ constexpr double kPi = 3.14159265358979323846;
 // The automatic skin grows up to this multiple of its packed-bed value (adaptive_skin).
 constexpr double kMaxSkinFactor = 5.0;
 
+using BoxFaceForces = std::array<Vec3, kBoxFaces>;
+BoxFaceForces zero_faces() {
+  BoxFaceForces f;
+  f.fill(Vec3::Zero());  // Eigen vectors start uninitialised
+  return f;
+}
+
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 // Energy the tangential and rolling springs of a contact that has just opened give up to
@@ -170,8 +177,7 @@ void Simulation::prepare() {
   box_history_.assign(ne * nx, ContactHistory{});
   box_active_.assign(ne * nx, 0);
   box_force_.assign(nx, Vec3::Zero());
-  box_face_force_.assign(nx, std::array<Vec3, kBoxFaces>{});
-  for (auto& faces : box_face_force_) faces.fill(Vec3::Zero());
+  box_face_force_.assign(nx, zero_faces());
   chunk_wall_force_.assign(chunk_count(bodies_.size()) * nw, Vec3::Zero());
   prepared_ = true;
   clump_bodies_.clear();
@@ -721,10 +727,7 @@ void Simulation::gather_and_kick() {
   body_chunk_energy_.assign(chunks, ChunkEnergy{});
   chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
   const std::size_t nx = boxes_.size();
-  chunk_box_force_.assign(chunks * nx, Vec3::Zero());
-  std::array<Vec3, kBoxFaces> no_faces;
-  no_faces.fill(Vec3::Zero());
-  chunk_box_face_force_.assign(chunks * nx, no_faces);
+  chunk_box_face_force_.assign(chunks * nx, zero_faces());
   const double dt = dt_;
   const double half = 0.5 * dt_;
   const bool kick_now = gather_and_kick_;
@@ -829,7 +832,6 @@ void Simulation::gather_and_kick() {
               materials_.pair(box.material, elements_.material[e]), g, history, dt);
           fe += out.force;
           te += arm.cross(out.force) + out.rolling_moment;
-          chunk_box_force_[c * nx + k] -= out.force;
           chunk_box_face_force_[c * nx + k][box_face(g.normal)] -= out.force;
           acc.damping += out.dissipated_damping;
           acc.friction += out.dissipated_friction;
@@ -868,13 +870,14 @@ void Simulation::gather_and_kick() {
     for (Index c = 0; c < chunks; ++c) sum += chunk_wall_force_[c * nw + w];
     wall_force_[w] = sum;
   }
-  box_face_force_.assign(nx, no_faces);
+  // Per face in chunk order, then the faces in face order: the same sums on any thread count.
   for (std::size_t k = 0; k < nx; ++k) {
+    BoxFaceForces faces = zero_faces();
+    for (Index c = 0; c < chunks; ++c)
+      for (int f = 0; f < kBoxFaces; ++f) faces[f] += chunk_box_face_force_[c * nx + k][f];
     Vec3 sum = Vec3::Zero();
-    for (Index c = 0; c < chunks; ++c) {
-      sum += chunk_box_force_[c * nx + k];
-      for (int f = 0; f < kBoxFaces; ++f) box_face_force_[k][f] += chunk_box_face_force_[c * nx + k][f];
-    }
+    for (const Vec3& f : faces) sum += f;
+    box_face_force_[k] = faces;
     box_force_[k] = sum;
   }
   for (const auto& acc : body_chunk_energy_) {

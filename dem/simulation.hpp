@@ -142,8 +142,7 @@ class Simulation {
   std::vector<RigidBox>& mutable_boxes() { return boxes_; }
   // Force the elements exert on box k during the last step, N.
   const Vec3& box_force(int k) const { return box_force_[k]; }
-  // The same split by the face it acts on (box_face in rigid_box.hpp); they add up to box_force
-  // up to round-off.
+  // The same split by the face it acts on (box_face in rigid_box.hpp); box_force is their sum.
   const std::array<Vec3, kBoxFaces>& box_face_forces(int k) const { return box_face_force_[k]; }
   EnergyReport energy() const;
   std::vector<ContactRecord> contacts() const;
@@ -241,8 +240,7 @@ class Simulation {
   std::vector<ContactHistory> box_history_;   // [element * boxes + box]
   std::vector<std::uint8_t> box_active_;
   std::vector<Vec3> box_force_;
-  std::vector<Vec3> chunk_box_force_;         // [chunk * boxes + box]
-  std::vector<std::array<Vec3, kBoxFaces>> box_face_force_;
+  std::vector<std::array<Vec3, kBoxFaces>> box_face_force_;        // box_force_ split by face
   std::vector<std::array<Vec3, kBoxFaces>> chunk_box_face_force_;  // [chunk * boxes + box]
   void kick_boxes(double h);
   std::vector<Vec3> wall_force_;

@@ -140,17 +140,12 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
                    r.elements, dt, total, scene::format_duration(per_step * total));
       }
       force_sum += -sim.box_force(0).x();
-      const ResistanceParts now = resistance_parts(sim.box_face_forces(0));
-      parts_sum.base += now.base;
-      parts_sum.crib += now.crib;
-      parts_sum.shoulder += now.shoulder;
-      parts_sum.top += now.top;
+      parts_sum += resistance_parts(sim.box_face_forces(0));
       ++in_interval;
       const double u = sim.boxes()[0].centre.x() - x0;
       if (k % record_every == 0 || k == total) {
         const double n = static_cast<double>(in_interval);
-        const ResistanceParts mean{parts_sum.base / n, parts_sum.crib / n, parts_sum.shoulder / n, parts_sum.top / n};
-        r.curve.push_back({u, force_sum / n, sim.boxes()[0].centre.z() - z0, sim.time(), mean});
+        r.curve.push_back({u, force_sum / n, sim.boxes()[0].centre.z() - z0, sim.time(), parts_sum / n});
         force_sum = 0.0;
         parts_sum = ResistanceParts{};
         in_interval = 0;

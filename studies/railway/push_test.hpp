@@ -33,6 +33,12 @@ namespace mfdem::railway {
 // (dem::box_face); the parts add up to F(u).
 struct ResistanceParts {
   double base = 0.0, crib = 0.0, shoulder = 0.0, top = 0.0;  // N
+
+  ResistanceParts& operator+=(const ResistanceParts& o) {
+    base += o.base, crib += o.crib, shoulder += o.shoulder, top += o.top;
+    return *this;
+  }
+  ResistanceParts operator/(double n) const { return {base / n, crib / n, shoulder / n, top / n}; }
 };
 
 struct ForceSample {
