@@ -19,7 +19,8 @@ const char* const kPushDefinitions =
     "99.9 % nearest-rank quantile. Inertial number I = (v / sleeper height) d_mean / sqrt(p / rho), p the "
     "mean stress of the stone contacts over the bed. Base, crib, shoulder: the parts of F carried by the "
     "sleeper's bottom face, its two sides along the track and its two ends (each contact counted to the face "
-    "it leans on most).";
+    "it leans on most). support_*: the same split of the upward force on the sleeper, the part of its "
+    "weight each face carries.";
 
 namespace {
 
@@ -57,6 +58,9 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_doubles(file, "curve/crib", column(r.curve, [](auto& s) { return s.parts.crib; }));
   write_doubles(file, "curve/shoulder", column(r.curve, [](auto& s) { return s.parts.shoulder; }));
   write_doubles(file, "curve/top", column(r.curve, [](auto& s) { return s.parts.top; }));
+  write_doubles(file, "curve/support_base", column(r.curve, [](auto& s) { return s.support.base; }));
+  write_doubles(file, "curve/support_crib", column(r.curve, [](auto& s) { return s.support.crib; }));
+  write_doubles(file, "curve/support_shoulder", column(r.curve, [](auto& s) { return s.support.shoulder; }));
   write_doubles(file, "network/u", column(r.network, [](auto& s) { return s.u; }));
   write_doubles(file, "network/mean_stress", column(r.network, [](auto& s) { return s.mean_stress; }));
   write_doubles(file, "network/inertial_number", column(r.network, [](auto& s) { return s.inertial_number; }));
@@ -90,10 +94,12 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\n"
       "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
       "peak_base = {:.6g}\npeak_crib = {:.6g}\npeak_shoulder = {:.6g}\npeak_top = {:.6g}\n"
+      "start_support_base = {:.6g}\nstart_support_crib = {:.6g}\nstart_support_shoulder = {:.6g}\n"
       "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
       r.contact_force_q999, r.mean_contact_force, r.parts_at_peak.base, r.parts_at_peak.crib,
-      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.support_at_start.base, r.support_at_start.crib,
+      r.support_at_start.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
 }
 
@@ -113,6 +119,17 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("  crib: sides along the track (kN)", share(r.parts_at_peak.crib));
   row("  shoulder: sleeper ends (kN)", share(r.parts_at_peak.shoulder));
   if (r.parts_at_peak.top != 0.0) row("  top face (kN)", share(r.parts_at_peak.top));
+  // Who carries the sleeper's weight: a base that carries less than the weight leaves the rest
+  // hanging on the cribs by side friction, and the base friction resists with that much less.
+  const double weight = r.sleeper_weight;
+  const auto carried = [&](double part) {
+    return fmt::format("{:.3f} ({:.0f} %)", part * 1e-3, weight > 0.0 ? 100.0 * part / weight : 0.0);
+  };
+  row("sleeper weight (kN)", fmt::format("{:.3f}", weight * 1e-3));
+  row("  carried by the base at u = 0 (kN)", carried(r.support_at_start.base));
+  row("  by the crib sides at u = 0 (kN)", carried(r.support_at_start.crib));
+  row("  by the base at the peak (kN)", carried(r.support_at_peak.base));
+  row("  by the crib sides at the peak (kN)", carried(r.support_at_peak.crib));
   row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));
   row("max particle contact force (kN)", fmt::format("{:.3f}", r.max_contact_force * 1e-3));
   row("  99.9 % quantile (kN)", fmt::format("{:.3f}", r.contact_force_q999 * 1e-3));

@@ -47,10 +47,14 @@ struct ForceSample {
   double heave = 0.0;   // sleeper rise since the start, m
   double time = 0.0;    // s since the push began
   ResistanceParts parts;  // of F(u), mean over the same interval
+  ResistanceParts support;  // of the upward force on the sleeper (its weight when at rest), same faces
 };
 
 // The parts of F = -(force on the sleeper).x by face.
 ResistanceParts resistance_parts(const std::array<dem::Vec3, dem::kBoxFaces>& faces);
+// The parts of the upward force on the sleeper, (force on the sleeper).z, by face: how much of
+// its weight the base carries and how much hangs on the cribs by side friction.
+ResistanceParts support_parts(const std::array<dem::Vec3, dem::kBoxFaces>& faces);
 
 struct NetworkSample {
   double u = 0.0;
@@ -67,9 +71,11 @@ struct PushResult {
   std::vector<NetworkSample> network;
   double peak_force = 0.0, u_at_peak = 0.0;
   ResistanceParts parts_at_peak;          // of the peak sample
+  ResistanceParts support_at_start, support_at_peak;  // of the first and the peak sample
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
   double final_heave = 0.0;
+  double sleeper_weight = 0.0;            // N, m g
   double time_step = 0.0, wall_seconds = 0.0;
   std::int64_t steps = 0, stones = 0, elements = 0;
   std::vector<dem::ContactRecord> end_contacts;      // stone-stone, at u_end

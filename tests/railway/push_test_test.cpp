@@ -157,6 +157,14 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   const auto& at_peak = r.parts_at_peak;
   INFO("parts at the peak: base " << at_peak.base << ", crib " << at_peak.crib << ", shoulder " << at_peak.shoulder);
   CHECK(at_peak.base > 0.0);
+  // The faces carry the sleeper's weight: at u = 0 the sleeper rests on the settled bed, so the
+  // upward forces on its faces balance m g to the settling residue (force ratio 1e-3; 2 % allowed).
+  // During the push it rises as the bed dilates, so the interval means need not sum to m g.
+  const auto& q0 = r.support_at_start;
+  INFO("support at u = 0: base " << q0.base << ", crib " << q0.crib << ", shoulder " << q0.shoulder << " N; weight "
+                                 << r.sleeper_weight << " N");
+  CHECK(std::abs(q0.base + q0.crib + q0.shoulder + q0.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
+  CHECK(r.support_at_start.base > 0.5 * r.sleeper_weight);
   // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
   CHECK(r.mean_contact_force < r.contact_force_q999);
   CHECK(r.contact_force_q999 <= r.max_contact_force);
