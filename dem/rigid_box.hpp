@@ -20,7 +20,20 @@ struct RigidBox {
   int material = 0;
   Vec3 velocity = Vec3::Zero();      // m/s; the prescribed value on driven axes
   std::array<bool, 3> driven = {true, true, true};
+  // m/s: rate of change of each half extent, a prescribed growth (a sleeper tamped into its bed
+  // grows into its place); its work on the elements counts as work put in.
+  Vec3 growth_rate = Vec3::Zero();
 };
+
+// The growth part of the velocity of the box surface point nearest x: each face it lies on
+// moves outwards at its axis's growth rate (an edge or corner at the sum).
+inline Vec3 box_growth_velocity(const RigidBox& box, const Vec3& x) {
+  const Vec3 local = x - box.centre;
+  Vec3 v = Vec3::Zero();
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(local[a]) >= box.half_extent[a]) v[a] = std::copysign(box.growth_rate[a], local[a]);
+  return v;
+}
 
 // Contact of a sphere (centre x, radius r) with a box: overlap d > 0, unit normal from the box
 // to the sphere, and the point of the box surface nearest the sphere's centre. A centre inside

@@ -331,7 +331,10 @@ void Simulation::step() {
   if (!prepared_) throw std::logic_error("Simulation::step before prepare()");
   drift_and_kick();
   kick_boxes(0.5 * dt_);
-  for (auto& box : boxes_) box.centre += dt_ * box.velocity;
+  for (auto& box : boxes_) {
+    box.centre += dt_ * box.velocity;
+    box.half_extent += dt_ * box.growth_rate;
+  }
   maybe_rebuild();
   evaluate_pairs();
   gather_and_kick();
@@ -809,7 +812,7 @@ void Simulation::gather_and_kick() {
               // As for walls: the springs' energy goes to friction when the contact opens.
               const Vec3 nearest = box.centre + (xe - box.centre).cwiseMax(-box.half_extent).cwiseMin(box.half_extent);
               const Vec3 n = (xe - nearest).normalized();
-              const Vec3 v = vb + wb.cross(xe - xb - re * n) - box.velocity;
+              const Vec3 v = vb + wb.cross(xe - xb - re * n) - box.velocity - box_growth_velocity(box, xe);
               acc.friction += released_spring_energy(materials_.pair(box.material, elements_.material[e]),
                                                      history, re, v - v.dot(n) * n, wb - wb.dot(n) * n, dt);
               history = ContactHistory{};
@@ -823,7 +826,8 @@ void Simulation::gather_and_kick() {
           g.overlap = contact->overlap;
           if (g.overlap > overlap_limit * re && acc.bad_body < 0) acc.bad_body = b;
           const Vec3 arm = -(re - 0.5 * g.overlap) * g.normal;
-          g.relative_velocity = vb + wb.cross(xe - xb + arm) - box.velocity;
+          const Vec3 growth = box_growth_velocity(box, xe);
+          g.relative_velocity = vb + wb.cross(xe - xb + arm) - box.velocity - growth;
           g.relative_spin = wb;
           g.frame_spin = 0.0;
           g.effective_mass = mass * box.mass / (mass + box.mass);
@@ -838,6 +842,7 @@ void Simulation::gather_and_kick() {
           // Work of the drive: only driven axes put energy in; free axes trade kinetic energy.
           for (int a = 0; a < 3; ++a)
             if (box.driven[a]) acc.wall_work += out.force[a] * box.velocity[a] * dt;
+          acc.wall_work += out.force.dot(growth) * dt;
         }
         force += fe;
         torque += te + (xe - xb).cross(fe);

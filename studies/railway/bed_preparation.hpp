@@ -19,15 +19,23 @@
 //    below `deposition_ratio` x the work of lifting them by one mean stone size (stage_runner.hpp),
 //    or at `max_deposition_time`. Not the force ratio too: while low-friction clumps roll on the
 //    surface it stays at 0.2-0.8 (standard and mini) and the stage always ran to its limit; the
-//    settling (step 5) is where equilibrium is asked for.
+//    settling (step 6) is where equilibrium is asked for.
 // 4. Trimming and sleeper placement. Stones whose centre lies above the design surface (crib
 //    and shoulder crest at the sleeper top, the shoulder slope beyond) or which intersect the
 //    sleeper's volume are removed; the container walls go; the sleeper box is placed with its
 //    base at depth_under_sleeper, held along the track, free across it and vertically (it
 //    comes to rest where the bed's lateral forces balance, as a sleeper cut from its rails).
-// 5. Settling. With the design friction restored and local damping `local_damping`, the bed and
-//    the sleeper settle under gravity until at rest to `equilibrium_ratio`, or at
-//    `max_settling_time` (then the report says "settled NO" and the command warns).
+//    With `tamping_depth` > 0 the cut is that much shorter and narrower (sides and ends moved
+//    in): stones that reach only into that shell of the sleeper's volume stay.
+// 5. Tamping (when `tamping_depth` > 0). The sleeper, held still with the design friction and
+//    local damping `local_damping`, grows from the cut to its full size over `tamping_time`:
+//    its sides and ends push the stones in the shell into the cribs and shoulders, packing
+//    them against it. Without it the sleeper stands in a hole up to a stone's size too large
+//    and the crib stones lean loosely on it. The base is not pressed down (bed_preparation.cpp).
+// 6. Settling. With the design friction and local damping `local_damping`, the bed and the
+//    sleeper (released: free across the track and vertically) settle under gravity until at
+//    rest to `equilibrium_ratio`, or at `max_settling_time` (then the report says "settled NO"
+//    and the command warns).
 #include <filesystem>
 #include <vector>
 

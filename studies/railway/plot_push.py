@@ -5,7 +5,8 @@
 
 OUT is a directory holding push.h5 (and packing.h5 for the sleeper outline, optional). The
 figure has three panels: F(u) and the sleeper heave against u for every OUT, with the first
-OUT's F split into the parts its base, crib sides and shoulder ends carry (thin lines); the
+OUT's F split into the parts its base, crib sides and shoulder ends carry (thin lines; for a wide
+bed also the upward force on the base, the load its friction works with); the
 end-state force chains of the first OUT seen along the track (x-z), each stone-stone contact a
 line between the stones' centres, width and shade by force; and the stones' displacement field at
 u_end (x-z), arrows scaled up, coloured by magnitude (the colour scale ends at the 99th
@@ -33,6 +34,7 @@ def load(out: Path) -> dict:
         data = {k: f["curve"][k][...] for k in ("u", "force", "heave")}
         # Packings pushed before the split by face have no parts.
         data["parts"] = {k: f["curve"][k][...] for k in ("base", "crib", "shoulder") if k in f["curve"]}
+        data["base_support"] = f["curve"]["support_base"][...] if "support_base" in f["curve"] else None
         data.update({k: f.attrs[k] for k in ("peak_force", "u_at_peak", "max_contact_force",
                                              "contact_force_q999", "velocity")})
         end = f["end_state"]
@@ -108,6 +110,9 @@ def main() -> None:
                           label=f"{labels[0]}: {name}")
         if wide:
             parts_ax.plot(runs[0]["u"] * 1e3, runs[0]["force"] * 1e-3, lw=1.2, color="k", label=f"{labels[0]}: F")
+            if runs[0]["base_support"] is not None:  # the load the base friction works with
+                parts_ax.plot(runs[0]["u"] * 1e3, runs[0]["base_support"] * 1e-3, lw=0.8, color="0.6",
+                              label=f"{labels[0]}: weight on the base")
             parts_ax.set_xlabel("sleeper displacement u (mm)")
             parts_ax.set_ylabel("part of F (kN)")
             parts_ax.set_title("Where the resistance comes from: base, crib sides, shoulder ends")

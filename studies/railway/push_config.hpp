@@ -31,6 +31,11 @@ struct PreparationSettings {
   double equilibrium_ratio = 1e-3;    // the bed is settled when the ratio is below this
   double max_deposition_time = 1.5;   // s of simulated time, a limit
   double max_settling_time = 1.0;     // s, a limit for each settling stage
+  // m: the sleeper is cut into the bed this much shorter and narrower on each side, then grows
+  // to its size over `tamping_time` (s), pushing the stones beside it into the cribs and
+  // shoulders, packing them against it; 0 cuts the full size out and leaves the gaps.
+  double tamping_depth = 0.0;
+  double tamping_time = 0.1;
 };
 
 struct PushSettings {

@@ -18,7 +18,7 @@ constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate pr
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
                               double energy_scale, double max_time, bool quiet, RestCriterion criterion,
                               dem::StateFile* frames, double frame_interval,
-                              double check_interval) {
+                              double check_interval, const StageDrive& drive) {
   StageReport r;
   r.name = name;
   const auto start = std::chrono::steady_clock::now();
@@ -31,6 +31,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
   if (frames) frames->write_frame(sim);
   int below = 0;
   for (std::int64_t k = 1; k <= limit; ++k) {
+    if (drive) drive(sim, static_cast<double>(k - 1) * sim.time_step());
     sim.step();
     if (k == kEstimateSteps && !quiet) {
       const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
@@ -51,7 +52,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     r.check_time.push_back(sim.time() - t0);
     r.check_force_ratio.push_back(r.unbalanced_force_ratio);
     r.check_kinetic_ratio.push_back(kinetic);
-    below = forces_balanced && kinetic < ratio_target ? below + 1 : 0;
+    below = criterion != RestCriterion::kFixedTime && forces_balanced && kinetic < ratio_target ? below + 1 : 0;
     progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
                                                  r.unbalanced_force_ratio, kinetic, ratio_target));
     if (below >= 2) {
@@ -60,6 +61,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     }
   }
   progress.finish();
+  if (criterion == RestCriterion::kFixedTime) r.settled = true;
   if (frames) frames->write_frame(sim);
   r.unbalanced_force_ratio = sim.unbalanced_force_ratio();
   r.simulated_time = sim.time() - t0;

@@ -8,6 +8,7 @@
 // has to land the stones (the deposition) asks for the kinetic condition alone. Checks fall on
 // fixed step counts, so a stage ends on the same step whatever the thread count.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,16 @@ struct StageReport {
 
 // `check_interval` in simulated seconds. With `frames`, writes the state every `frame_interval`
 // simulated seconds and at the end (for a look at the preparation in ParaView).
-enum class RestCriterion { kForcesAndEnergy, kEnergyOnly };
+// kFixedTime runs the whole max_time (a stage with a set duration, not a rest goal) and counts
+// as settled at its end. `drive`, when given, is called before every step with the stage's
+// simulated time (to move or resize a boundary).
+enum class RestCriterion { kForcesAndEnergy, kEnergyOnly, kFixedTime };
+using StageDrive = std::function<void(dem::Simulation&, double)>;
 
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
                               double energy_scale, double max_time, bool quiet, RestCriterion criterion,
                               dem::StateFile* frames = nullptr,
-                              double frame_interval = 0.02, double check_interval = 2e-3);
+                              double frame_interval = 0.02, double check_interval = 2e-3,
+                              const StageDrive& drive = {});
 
 }  // namespace mfdem::railway

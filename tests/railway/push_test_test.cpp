@@ -173,6 +173,35 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   CHECK(std::abs(r.curve.back().u - r.distance) <= r.velocity * r.time_step);
 }
 
+TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base", "[railway][tamping]") {
+  // References: geometry and statics. The cut is tamping_depth shorter and narrower, so stones
+  // that reached only into that shell stay (more stones kept); the sleeper ends at its design
+  // size to round-off (1e-12 m); and, free vertically while tamped, it rests on the stones under
+  // it: at u = 0 its faces carry its weight to the settling residue (2 %), the base most of it.
+  railway::PushStudyConfig config = tiny_config();
+  railway::PreparationReport tamped_report;
+  const railway::Packing& plain = shared_packing();
+  config.preparation.tamping_depth = 0.004;
+  config.preparation.tamping_time = 0.02;
+  const railway::Packing tamped = railway::prepare_bed(config, true, tamped_report);
+  REQUIRE(tamped_report.stages.size() == 3);
+  CHECK(tamped_report.stages[1].name == "tamp");
+  CHECK(tamped_report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  CAPTURE(plain.bodies.size(), tamped.bodies.size());
+  CHECK(tamped.bodies.size() > plain.bodies.size());
+  CHECK((tamped.sleeper.half_extent - plain.sleeper.half_extent).norm() < 1e-12);
+  CHECK(tamped.sleeper.growth_rate.norm() == 0.0);
+  railway::PushRun run;
+  run.velocity = config.push.velocity;
+  run.distance = 1e-4;
+  run.quiet = true;
+  const railway::PushResult r = railway::run_push(tamped, tamped.config, run);
+  const auto& q = r.support_at_start;
+  CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
+  CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
+  CHECK(q.base > 0.5 * r.sleeper_weight);
+}
+
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
   const auto refused = [](const std::string& replace, const std::string& by) {
     std::string text = mfdem::test::kTinyBed;
