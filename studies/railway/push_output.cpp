@@ -47,6 +47,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
       {"u_at_peak", r.u_at_peak}, {"max_contact_force", r.max_contact_force},
       {"contact_force_q999", r.contact_force_q999}, {"mean_contact_force", r.mean_contact_force},
       {"max_inertial_number", r.max_inertial_number}, {"final_heave", r.final_heave},
+      {"sleeper_weight", r.sleeper_weight},
       {"time_step", r.time_step}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
       {"stones", static_cast<double>(r.stones)}, {"elements", static_cast<double>(r.elements)}};
   for (const auto& [name, value] : numbers) write_attribute(file, name, value);

@@ -8,11 +8,12 @@ table: seed, velocity, stones, elements, peak F and where, the peak of F(u) afte
 over --window-mm of displacement (the record interval is 0.01-0.02 mm, so the raw peak can be one
 stick-slip spike; the smoothed peak shows how much), F at u_end, the maximum contact force and its
 99.9 % quantile, the shares of the peak carried by the sleeper's base, crib sides and shoulder
-ends (nan for runs written before that split), the heave, the largest inertial number and the wall time. With two or more rows
+ends (nan for runs written before that split), the share of the sleeper's weight its base
+carries at u = 0 and the base's lateral force over that load at the peak (the friction it
+mobilises; mu = 0.5 when it slides), the heave, the largest inertial number and the wall time. With two or more rows
 it adds the mean and the sample standard deviation. Needs h5py and numpy (Debian python3-h5py).
 """
 import argparse
-import statistics
 import sys
 from pathlib import Path
 
@@ -30,6 +31,8 @@ COLUMNS = [  # (header, key, scale, format)
     ("base at peak (%)", "base_share", 100.0, "{:.0f}"),
     ("crib (%)", "crib_share", 100.0, "{:.0f}"),
     ("shoulder (%)", "shoulder_share", 100.0, "{:.0f}"),
+    ("weight on base at u=0 (%)", "base_load_share", 100.0, "{:.0f}"),
+    ("base / its load at peak", "base_mobilised", 1.0, "{:.2f}"),
     ("max contact (kN)", "max_contact_force", 1e-3, "{:.3f}"),
     ("q99.9 (kN)", "contact_force_q999", 1e-3, "{:.3f}"),
     ("heave (mm)", "final_heave", 1e3, "{:+.2f}"),
@@ -63,6 +66,12 @@ def load(out: Path, window: float) -> dict:
         for part in ("base", "crib", "shoulder"):
             key = f"curve/{part}"
             row[f"{part}_share"] = float(f[key][peak] / force[peak]) if key in f and len(force) else float("nan")
+        # How much of the weight the base carries, and how much of mu it uses (runs written
+        # before the split of the weight have nan).
+        has_support = "curve/support_base" in f and "sleeper_weight" in f.attrs and len(force)
+        support = f["curve/support_base"][...] if has_support else None
+        row["base_load_share"] = float(support[0] / f.attrs["sleeper_weight"]) if has_support else float("nan")
+        row["base_mobilised"] = float(f["curve/base"][peak] / support[peak]) if has_support else float("nan")
     row["end_force"] = float(force[-1]) if len(force) else float("nan")
     row["smoothed_peak"] = moving_mean_peak(u, force, window)
     summary = out / "push_summary.toml"
@@ -93,7 +102,9 @@ def main() -> None:
         cells += [fmt.format(r[key] * scale) for _, key, scale, fmt in COLUMNS]
         print("| " + " | ".join(cells) + " |")
     if len(rows) >= 2:
-        for label, reduce in (("mean", statistics.mean), ("std", statistics.stdev)):
+        # numpy, not statistics: a column of runs from before a field existed is nan, which
+        # statistics.stdev cannot take.
+        for label, reduce in (("mean", np.mean), ("std", lambda x: np.std(x, ddof=1))):
             cells = [label, "", "", "", ""]
             cells += [fmt.format(reduce([r[key] for r in rows]) * scale).replace("+", "")
                       for _, key, scale, fmt in COLUMNS]
