@@ -27,8 +27,9 @@
 //    comes to rest where the bed's lateral forces balance, as a sleeper cut from its rails).
 //    With `tamping_depth` > 0 the cut is that much shorter and narrower (sides and ends moved
 //    in): stones that reach only into that shell of the sleeper's volume stay.
-// 5. Tamping (when `tamping_depth` > 0). The sleeper, held still with the design friction and
-//    local damping `local_damping`, grows from the cut to its full size over `tamping_time`:
+// 5. Tamping (when `tamping_depth` > 0). The sleeper, held across and along the track and free
+//    vertically, with the design friction and local damping `local_damping`, grows from the cut
+//    to its full size over `tamping_time`:
 //    its sides and ends push the stones in the shell into the cribs and shoulders, packing
 //    them against it. Without it the sleeper stands in a hole up to a stone's size too large
 //    and the crib stones lean loosely on it. The base is not pressed down (bed_preparation.cpp).

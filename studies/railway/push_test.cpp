@@ -32,6 +32,16 @@ NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& 
   return s;
 }
 
+// One component of the face forces, times sign, grouped by face.
+ResistanceParts face_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f, int axis, double sign) {
+  ResistanceParts p;
+  p.base = sign * f[dem::kMinusZ][axis];
+  p.top = sign * f[dem::kPlusZ][axis];
+  p.crib = sign * (f[dem::kMinusY][axis] + f[dem::kPlusY][axis]);
+  p.shoulder = sign * (f[dem::kMinusX][axis] + f[dem::kPlusX][axis]);
+  return p;
+}
+
 void summarise_curve(PushResult& r) {
   for (const auto& s : r.curve)
     if (s.force > r.peak_force)
@@ -52,20 +62,6 @@ void collect_end_state(const dem::Simulation& sim, PushResult& r) {
   r.end_position = sim.bodies().position;
   for (std::size_t b = 0; b < r.end_position.size(); ++b)
     r.displacement.push_back(sim.domain().nearest_image(r.end_position[b] - r.start_position[b]));
-}
-
-}  // namespace
-
-namespace {
-
-// One component of the face forces, times sign, grouped by face.
-ResistanceParts face_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f, int axis, double sign) {
-  ResistanceParts p;
-  p.base = sign * f[dem::kMinusZ][axis];
-  p.top = sign * f[dem::kPlusZ][axis];
-  p.crib = sign * (f[dem::kMinusY][axis] + f[dem::kPlusY][axis]);
-  p.shoulder = sign * (f[dem::kMinusX][axis] + f[dem::kPlusX][axis]);
-  return p;
 }
 
 }  // namespace
