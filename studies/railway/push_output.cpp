@@ -99,8 +99,8 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
       r.contact_force_q999, r.mean_contact_force, r.parts_at_peak.base, r.parts_at_peak.crib,
-      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.support_at_start.base, r.support_at_start.crib,
-      r.support_at_start.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.curve.front().support.base, r.curve.front().support.crib,
+      r.curve.front().support.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
 }
 
@@ -127,8 +127,8 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
     return fmt::format("{:.3f} ({:.0f} %)", part * 1e-3, weight > 0.0 ? 100.0 * part / weight : 0.0);
   };
   row("sleeper weight (kN)", fmt::format("{:.3f}", weight * 1e-3));
-  row("  carried by the base at u = 0 (kN)", carried(r.support_at_start.base));
-  row("  by the crib sides at u = 0 (kN)", carried(r.support_at_start.crib));
+  row("  carried by the base at u = 0 (kN)", carried(r.curve.front().support.base));
+  row("  by the crib sides at u = 0 (kN)", carried(r.curve.front().support.crib));
   row("  by the base at the peak (kN)", carried(r.support_at_peak.base));
   row("  by the crib sides at the peak (kN)", carried(r.support_at_peak.crib));
   row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));

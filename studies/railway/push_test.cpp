@@ -46,7 +46,6 @@ void summarise_curve(PushResult& r) {
   for (const auto& s : r.curve)
     if (s.force > r.peak_force)
       r.peak_force = s.force, r.u_at_peak = s.u, r.parts_at_peak = s.parts, r.support_at_peak = s.support;
-  r.support_at_start = r.curve.front().support;
   r.final_heave = r.curve.back().heave;
   for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
 }

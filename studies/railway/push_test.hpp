@@ -71,7 +71,7 @@ struct PushResult {
   std::vector<NetworkSample> network;
   double peak_force = 0.0, u_at_peak = 0.0;
   ResistanceParts parts_at_peak;          // of the peak sample
-  ResistanceParts support_at_start, support_at_peak;  // of the first and the peak sample
+  ResistanceParts support_at_peak;        // of the peak sample (at u = 0: curve.front().support)
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
   double final_heave = 0.0;

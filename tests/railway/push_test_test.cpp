@@ -160,11 +160,11 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   // The faces carry the sleeper's weight: at u = 0 the sleeper rests on the settled bed, so the
   // upward forces on its faces balance m g to the settling residue (force ratio 1e-3; 2 % allowed).
   // During the push it rises as the bed dilates, so the interval means need not sum to m g.
-  const auto& q0 = r.support_at_start;
+  const auto& q0 = r.curve.front().support;
   INFO("support at u = 0: base " << q0.base << ", crib " << q0.crib << ", shoulder " << q0.shoulder << " N; weight "
                                  << r.sleeper_weight << " N");
   CHECK(std::abs(q0.base + q0.crib + q0.shoulder + q0.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
-  CHECK(r.support_at_start.base > 0.5 * r.sleeper_weight);
+  CHECK(r.curve.front().support.base > 0.5 * r.sleeper_weight);
   // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
   CHECK(r.mean_contact_force < r.contact_force_q999);
   CHECK(r.contact_force_q999 <= r.max_contact_force);
@@ -196,7 +196,7 @@ TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base
   run.distance = 1e-4;
   run.quiet = true;
   const railway::PushResult r = railway::run_push(tamped, tamped.config, run);
-  const auto& q = r.support_at_start;
+  const auto& q = r.curve.front().support;
   CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
   CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
   CHECK(q.base > 0.5 * r.sleeper_weight);
