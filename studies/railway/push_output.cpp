@@ -20,7 +20,8 @@ const char* const kPushDefinitions =
     "mean stress of the stone contacts over the bed. Base, crib, shoulder: the parts of F carried by the "
     "sleeper's bottom face, its two sides along the track and its two ends (each contact counted to the face "
     "it leans on most). support_*: the same split of the upward force on the sleeper, the part of its "
-    "weight each face carries.";
+    "weight each face carries. pressing_*: the normal force the stones press each face group with (both crib "
+    "sides summed, both ends summed); friction on the base and crib sides gives at most about mu x (pressing_base + pressing_crib) of F (edge contacts aside).";
 
 namespace {
 
@@ -48,6 +49,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
       {"contact_force_q999", r.contact_force_q999}, {"mean_contact_force", r.mean_contact_force},
       {"max_inertial_number", r.max_inertial_number}, {"final_heave", r.final_heave},
       {"sleeper_weight", r.sleeper_weight},
+      {"sleeper_friction", r.sleeper_friction},
       {"time_step", r.time_step}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
       {"stones", static_cast<double>(r.stones)}, {"elements", static_cast<double>(r.elements)}};
   for (const auto& [name, value] : numbers) write_attribute(file, name, value);
@@ -62,6 +64,9 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_doubles(file, "curve/support_base", column(r.curve, [](auto& s) { return s.support.base; }));
   write_doubles(file, "curve/support_crib", column(r.curve, [](auto& s) { return s.support.crib; }));
   write_doubles(file, "curve/support_shoulder", column(r.curve, [](auto& s) { return s.support.shoulder; }));
+  write_doubles(file, "curve/pressing_base", column(r.curve, [](auto& s) { return s.pressing.base; }));
+  write_doubles(file, "curve/pressing_crib", column(r.curve, [](auto& s) { return s.pressing.crib; }));
+  write_doubles(file, "curve/pressing_shoulder", column(r.curve, [](auto& s) { return s.pressing.shoulder; }));
   write_doubles(file, "network/u", column(r.network, [](auto& s) { return s.u; }));
   write_doubles(file, "network/mean_stress", column(r.network, [](auto& s) { return s.mean_stress; }));
   write_doubles(file, "network/inertial_number", column(r.network, [](auto& s) { return s.inertial_number; }));
@@ -96,11 +101,13 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
       "peak_base = {:.6g}\npeak_crib = {:.6g}\npeak_shoulder = {:.6g}\npeak_top = {:.6g}\n"
       "start_support_base = {:.6g}\nstart_support_crib = {:.6g}\nstart_support_shoulder = {:.6g}\n"
+      "peak_pressing_base = {:.6g}\npeak_pressing_crib = {:.6g}\npeak_pressing_shoulder = {:.6g}\n"
       "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
       r.contact_force_q999, r.mean_contact_force, r.parts_at_peak.base, r.parts_at_peak.crib,
       r.parts_at_peak.shoulder, r.parts_at_peak.top, r.curve.front().support.base, r.curve.front().support.crib,
-      r.curve.front().support.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.curve.front().support.shoulder, r.pressing_at_peak.base, r.pressing_at_peak.crib,
+      r.pressing_at_peak.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
 }
 
@@ -131,6 +138,14 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("  by the crib sides at u = 0 (kN)", carried(r.curve.front().support.crib));
   row("  by the base at the peak (kN)", carried(r.support_at_peak.base));
   row("  by the crib sides at the peak (kN)", carried(r.support_at_peak.crib));
+  // How far friction is used on the faces where it is the only resistance: mu would be full.
+  const auto used = [](double part, double pressing) {
+    return pressing > 0.0 ? fmt::format("{:.2f}", part / pressing) : std::string("-");
+  };
+  row("stone-sleeper friction mu", fmt::format("{:.2f}", r.sleeper_friction));
+  row("friction used at the peak: base", used(r.parts_at_peak.base, r.pressing_at_peak.base));
+  row("  crib (F part / normal force)", used(r.parts_at_peak.crib, r.pressing_at_peak.crib));
+  row("  crib sides pressed with (kN)", fmt::format("{:.3f}", r.pressing_at_peak.crib * 1e-3));
   row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));
   row("max particle contact force (kN)", fmt::format("{:.3f}", r.max_contact_force * 1e-3));
   row("  99.9 % quantile (kN)", fmt::format("{:.3f}", r.contact_force_q999 * 1e-3));

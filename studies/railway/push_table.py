@@ -10,7 +10,8 @@ stick-slip spike; the smoothed peak shows how much), F at u_end, the maximum con
 99.9 % quantile, the shares of the peak carried by the sleeper's base, crib sides and shoulder
 ends (nan for runs written before that split), the share of the sleeper's weight its base
 carries at u = 0 and the base's lateral force over that load at the peak (the friction it
-mobilises; mu = 0.5 when it slides), the heave, the largest inertial number and the wall time. With two or more rows
+mobilises; mu = 0.5 when it slides), the normal force on the crib sides at the peak and the
+crib's part of F over it (runs written before the pressing split have nan), the heave, the largest inertial number and the wall time. With two or more rows
 it adds the mean and the sample standard deviation. Needs h5py and numpy (Debian python3-h5py).
 """
 import argparse
@@ -33,6 +34,8 @@ COLUMNS = [  # (header, key, scale, format)
     ("shoulder (%)", "shoulder_share", 100.0, "{:.0f}"),
     ("weight on base at u=0 (%)", "base_load_share", 100.0, "{:.0f}"),
     ("base / its load at peak", "base_mobilised", 1.0, "{:.2f}"),
+    ("crib sides pressed at peak (kN)", "crib_pressing", 1e-3, "{:.3f}"),
+    ("crib / its pressing", "crib_mobilised", 1.0, "{:.2f}"),
     ("max contact (kN)", "max_contact_force", 1e-3, "{:.3f}"),
     ("q99.9 (kN)", "contact_force_q999", 1e-3, "{:.3f}"),
     ("heave (mm)", "final_heave", 1e3, "{:+.2f}"),
@@ -72,6 +75,10 @@ def load(out: Path, window: float) -> dict:
         support = f["curve/support_base"][...] if has_support else None
         row["base_load_share"] = float(support[0] / f.attrs["sleeper_weight"]) if has_support else float("nan")
         row["base_mobilised"] = float(f["curve/base"][peak] / support[peak]) if has_support else float("nan")
+        has_pressing = "curve/pressing_crib" in f and len(force)
+        pressing = f["curve/pressing_crib"][peak] if has_pressing else float("nan")
+        row["crib_pressing"] = float(pressing)
+        row["crib_mobilised"] = float(f["curve/crib"][peak] / pressing) if has_pressing else float("nan")
     row["end_force"] = float(force[-1]) if len(force) else float("nan")
     row["smoothed_peak"] = moving_mean_peak(u, force, window)
     summary = out / "push_summary.toml"

@@ -45,7 +45,8 @@ ResistanceParts face_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f, int a
 void summarise_curve(PushResult& r) {
   for (const auto& s : r.curve)
     if (s.force > r.peak_force)
-      r.peak_force = s.force, r.u_at_peak = s.u, r.parts_at_peak = s.parts, r.support_at_peak = s.support;
+      r.peak_force = s.force, r.u_at_peak = s.u, r.parts_at_peak = s.parts, r.support_at_peak = s.support,
+      r.pressing_at_peak = s.pressing;
   r.final_heave = r.curve.back().heave;
   for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
 }
@@ -68,6 +69,16 @@ void collect_end_state(const dem::Simulation& sim, PushResult& r) {
 ResistanceParts resistance_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f) { return face_parts(f, 0, -1.0); }
 
 ResistanceParts support_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f) { return face_parts(f, 2, 1.0); }
+
+// The force on the sleeper through a face points into the sleeper: +axis on a minus face.
+ResistanceParts pressing_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f) {
+  ResistanceParts p;
+  p.base = f[dem::kMinusZ].z();
+  p.top = -f[dem::kPlusZ].z();
+  p.crib = f[dem::kMinusY].y() - f[dem::kPlusY].y();
+  p.shoulder = f[dem::kMinusX].x() - f[dem::kPlusX].x();
+  return p;
+}
 
 double bed_volume(const SectionGeometry& g) {
   const double profile = (g.crest_half_width() + g.toe_half_width()) * g.ballast_top();
@@ -100,6 +111,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   r.stones = sim.bodies().size();
   r.elements = sim.elements().size();
   r.sleeper_weight = sim.boxes()[0].mass * sim.settings().gravity.norm();
+  r.sleeper_friction = sim.materials().pair(kBallast, kSleeper).friction;
   double mean_size = 0.0;
   for (const auto& s : packing.stones) {
     mean_size += s.size;
@@ -124,7 +136,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(1e-3 / (run.velocity * dt)));
   const double x0 = sim.boxes()[0].centre.x(), z0 = sim.boxes()[0].centre.z();
   r.curve.push_back({0.0, -sim.box_force(0).x(), 0.0, 0.0, resistance_parts(sim.box_face_forces(0)),
-                     support_parts(sim.box_face_forces(0))});
+                     support_parts(sim.box_face_forces(0)), pressing_parts(sim.box_face_forces(0))});
   r.network.push_back(sample_network(sim, c, 0.0, run.velocity, mean_size, volume));
 
   std::optional<dem::StateFile> frames;
@@ -135,7 +147,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   scene::Progress progress("push", run.distance * 1e3, run.quiet);
   const auto start = std::chrono::steady_clock::now();
   double force_sum = 0.0;
-  ResistanceParts parts_sum, support_sum;
+  ResistanceParts parts_sum, support_sum, pressing_sum;
   std::int64_t in_interval = 0;
   std::int64_t k = 1;
   try {
@@ -150,14 +162,15 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
       force_sum += -sim.box_force(0).x();
       parts_sum += resistance_parts(sim.box_face_forces(0));
       support_sum += support_parts(sim.box_face_forces(0));
+      pressing_sum += pressing_parts(sim.box_face_forces(0));
       ++in_interval;
       const double u = sim.boxes()[0].centre.x() - x0;
       if (k % record_every == 0 || k == total) {
         const double n = static_cast<double>(in_interval);
         r.curve.push_back({u, force_sum / n, sim.boxes()[0].centre.z() - z0, sim.time(), parts_sum / n,
-                           support_sum / n});
+                           support_sum / n, pressing_sum / n});
         force_sum = 0.0;
-        parts_sum = support_sum = ResistanceParts{};
+        parts_sum = support_sum = pressing_sum = ResistanceParts{};
         in_interval = 0;
         progress.update(u * 1e3, fmt::format("u = {:.3f} mm  F = {:.3f} kN", u * 1e3, r.curve.back().force * 1e-3));
       }

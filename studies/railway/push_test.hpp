@@ -48,6 +48,7 @@ struct ForceSample {
   double time = 0.0;    // s since the push began
   ResistanceParts parts;  // of F(u), mean over the same interval
   ResistanceParts support;  // of the upward force on the sleeper (its weight when at rest), same faces
+  ResistanceParts pressing;  // the stones' normal force on each face group (compression), same faces
 };
 
 // The parts of F = -(force on the sleeper).x by face.
@@ -55,6 +56,11 @@ ResistanceParts resistance_parts(const std::array<dem::Vec3, dem::kBoxFaces>& fa
 // The parts of the upward force on the sleeper, (force on the sleeper).z, by face: how much of
 // its weight the base carries and how much hangs on the cribs by side friction.
 ResistanceParts support_parts(const std::array<dem::Vec3, dem::kBoxFaces>& faces);
+// The normal force the stones press each face group with (N >= 0 on each face; a group's faces
+// summed). Friction on the base and the crib sides gives at most mu times their pressing of F,
+// up to the few edge contacts, which count to one face with their whole force; the ends give F by
+// their normal force (shoulder part = leading end's minus trailing end's).
+ResistanceParts pressing_parts(const std::array<dem::Vec3, dem::kBoxFaces>& faces);
 
 struct NetworkSample {
   double u = 0.0;
@@ -72,10 +78,12 @@ struct PushResult {
   double peak_force = 0.0, u_at_peak = 0.0;
   ResistanceParts parts_at_peak;          // of the peak sample
   ResistanceParts support_at_peak;        // of the peak sample (at u = 0: curve.front().support)
+  ResistanceParts pressing_at_peak;       // of the peak sample
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
   double final_heave = 0.0;
   double sleeper_weight = 0.0;            // N, m g
+  double sleeper_friction = 0.0;          // mu of the stone-sleeper contacts
   double time_step = 0.0, wall_seconds = 0.0;
   std::int64_t steps = 0, stones = 0, elements = 0;
   std::vector<dem::ContactRecord> end_contacts;      // stone-stone, at u_end

@@ -165,12 +165,43 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
                                  << r.sleeper_weight << " N");
   CHECK(std::abs(q0.base + q0.crib + q0.shoulder + q0.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
   CHECK(r.curve.front().support.base > 0.5 * r.sleeper_weight);
+  // The faces are pressed, never pulled (contact forces are never tensile).
+  for (const auto& s : r.curve) {
+    CAPTURE(s.u, s.pressing.base, s.pressing.crib, s.pressing.shoulder);
+    CHECK(s.pressing.base >= 0.0);
+    CHECK(s.pressing.crib >= 0.0);
+    CHECK(s.pressing.shoulder >= 0.0);
+  }
+  CHECK(r.sleeper_friction == Approx(0.5));  // Table 1, stone-sleeper
+  // At rest the base's normal force is the weight it carries.
+  CHECK(r.curve.front().pressing.base == Approx(r.curve.front().support.base).epsilon(1e-12));
   // Contact forces: the 99.9 % quantile lies between the mean and the maximum.
   CHECK(r.mean_contact_force < r.contact_force_q999);
   CHECK(r.contact_force_q999 <= r.max_contact_force);
   // The drive (a speed-up over 0.1 mm, then the set velocity) ends within one step's travel of
   // u_end, and the sleeper is where the drive put it.
   CHECK(std::abs(r.curve.back().u - r.distance) <= r.velocity * r.time_step);
+}
+
+TEST_CASE("the pressing split takes each face's inward normal force", "[railway][push]") {
+  // Reference: the sign convention of dem::BoxFace. A stone on a minus face pushes the box
+  // towards +axis, one on a plus face towards -axis; both press. Tangential components (friction)
+  // do not count.
+  std::array<dem::Vec3, dem::kBoxFaces> faces;
+  faces.fill(dem::Vec3::Zero());
+  faces[dem::kMinusZ] = dem::Vec3(-3.0, 1.0, 40.0);  // the bed under the base: 40 N up
+  faces[dem::kPlusZ] = dem::Vec3(0.0, 0.0, -2.0);    // a stone on top: 2 N down
+  faces[dem::kMinusY] = dem::Vec3(-1.0, 5.0, 0.5);   // crib sides: 5 N and 7 N inwards
+  faces[dem::kPlusY] = dem::Vec3(-2.0, -7.0, 0.5);
+  faces[dem::kMinusX] = dem::Vec3(1.0, 0.0, 0.0);    // trailing end 1 N, leading end 11 N
+  faces[dem::kPlusX] = dem::Vec3(-11.0, 0.2, 0.0);
+  const railway::ResistanceParts p = railway::pressing_parts(faces);
+  CHECK(p.base == 40.0);
+  CHECK(p.top == 2.0);
+  CHECK(p.crib == 12.0);
+  CHECK(p.shoulder == 12.0);
+  // The lateral part of the ends is the leading end's push minus the trailing end's.
+  CHECK(railway::resistance_parts(faces).shoulder == 10.0);
 }
 
 TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base", "[railway][tamping]") {
