@@ -565,7 +565,7 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
   out.active = true;
   const double r = std::sqrt(r2);
   ContactGeometry g;
-  g.normal = d / r;
+  g.normal = d * (1.0 / r);  // one division, not three
   g.overlap = reach - r;
   out.too_deep = g.overlap > settings_.guards.max_overlap_fraction * std::min(ri, rj);
   const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
