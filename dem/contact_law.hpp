@@ -3,6 +3,7 @@
 //
 // Sub-models, called in this order by evaluate_contact (as LAMMPS GranularModel does):
 //   1. normal:     Fn = max(0, kn d - cn vn),  cn = 2 beta_n sqrt(m_eff kn)          [N]
+//                  m_eff = m_a m_b / (m_a + m_b) (m_a against a wall)
 //                  d overlap [m], vn = (v_b - v_a).n [m/s] (positive when separating);
 //                  never tensile: the dashpot cannot pull (Hertz-free linear model).
 //   2. tangential: Fs <- rotate(Fs) - ks vt dt,  |Fs| <= mu Fn                      [N]
@@ -30,7 +31,8 @@ struct ContactGeometry {
   Vec3 relative_spin;           // omega_b - omega_a, rad/s
   double frame_spin = 0.0;      // (omega_a + omega_b)/2 . n: how fast the contact frame turns
                                 // about the normal, rad/s
-  double effective_mass = 0.0;  // m_a m_b / (m_a + m_b), kg (m_a against a wall)
+  double damping = 0.0;         // cn = damping_coefficient(beta_n, m_eff, kn), N s/m; the
+                                // caller's, as a pair's is fixed (the neighbour list keeps it)
   double rolling_radius = 0.0;  // Rbar, m
 };
 
@@ -111,7 +113,7 @@ struct ContactOutcome {
   ContactOutcome out;
   const Vec3& n = g.normal;
   const double vn = g.relative_velocity.dot(n);
-  const double cn = damping_coefficient(p.damping_ratio, g.effective_mass, p.normal_stiffness);
+  const double cn = g.damping;
   const double elastic = p.normal_stiffness * g.overlap;
   const double fn = normal_force(p.normal_stiffness, cn, g.overlap, vn);
   out.normal_force = fn;

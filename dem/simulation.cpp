@@ -451,6 +451,16 @@ void Simulation::rebuild() {
   pair_torque_first_.assign(n, Vec3::Zero());
   pair_torque_second_.assign(n, Vec3::Zero());
   pair_active_ = std::move(active);
+  // The dashpot of each pair: fixed by the two bodies' masses, so computed once per build
+  // rather than (a square root and a division) per contact and step.
+  pair_dashpot_.resize(n);
+#pragma omp parallel for schedule(static) if (n > kChunkSize)
+  for (Index p = 0; p < n; ++p) {
+    const Index i = pairs_.first[p], j = pairs_.second[p];
+    const double mi = bodies_.mass[elements_.body[i]], mj = bodies_.mass[elements_.body[j]];
+    const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
+    pair_dashpot_[p] = damping_coefficient(pp.damping_ratio, mi * mj / (mi + mj), pp.normal_stiffness);
+  }
   build_position_ = elements_.position;
   ++rebuilds_;
   scan_walls_ = true;
@@ -575,8 +585,7 @@ Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, dou
   g.relative_velocity = vj - vi;
   g.relative_spin = wj - wi;
   g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
-  const double mi = bodies_.mass[bi], mj = bodies_.mass[bj];
-  g.effective_mass = mi * mj / (mi + mj);
+  g.damping = pair_dashpot_[p];
   g.rolling_radius = ri * rj / reach;
   const ContactOutcome c = evaluate_contact(
       materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
@@ -790,10 +799,10 @@ void Simulation::gather_and_kick() {
           g.relative_velocity = vb + wb.cross(xe - xb + arm) - wall.velocity;
           g.relative_spin = wb;
           g.frame_spin = 0.0;  // the wall fixes the contact frame
-          g.effective_mass = mass;
+          const PairParameters& pp = materials_.pair(wall.material, elements_.material[e]);
+          g.damping = damping_coefficient(pp.damping_ratio, mass, pp.normal_stiffness);
           g.rolling_radius = re;
-          const ContactOutcome out = evaluate_contact(
-              materials_.pair(wall.material, elements_.material[e]), g, history, dt);
+          const ContactOutcome out = evaluate_contact(pp, g, history, dt);
           fe += out.force;
           te += arm.cross(out.force) + out.rolling_moment;
           wall_sum[w] -= out.force;
@@ -830,10 +839,10 @@ void Simulation::gather_and_kick() {
           g.relative_velocity = vb + wb.cross(xe - xb + arm) - box.velocity - growth;
           g.relative_spin = wb;
           g.frame_spin = 0.0;
-          g.effective_mass = mass * box.mass / (mass + box.mass);
+          const PairParameters& pp = materials_.pair(box.material, elements_.material[e]);
+          g.damping = damping_coefficient(pp.damping_ratio, mass * box.mass / (mass + box.mass), pp.normal_stiffness);
           g.rolling_radius = re;
-          const ContactOutcome out = evaluate_contact(
-              materials_.pair(box.material, elements_.material[e]), g, history, dt);
+          const ContactOutcome out = evaluate_contact(pp, g, history, dt);
           fe += out.force;
           te += arm.cross(out.force) + out.rolling_moment;
           chunk_box_face_force_[c * nx + k][box_face(g.normal)] -= out.force;

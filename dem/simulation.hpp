@@ -202,6 +202,7 @@ class Simulation {
   std::vector<Vec3> pair_torque_first_;  // about the first element's centre
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
+  std::vector<double> pair_dashpot_;     // cn of each pair, N s/m (set by rebuild)
   std::vector<Vec3> element_force_, element_torque_;  // pair contacts summed per element
   std::vector<double> pair_damping_, pair_friction_;  // energy of stored pairs this step, J
   std::vector<double> row_damping_, row_friction_;    // energy of each element's row, J

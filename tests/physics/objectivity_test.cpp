@@ -43,7 +43,7 @@ TurnResult load_then_turn(const Vec3& axis, double omega_dt, double angle) {
   ContactGeometry g;
   g.overlap = 1e-4;  // Fn = 1000 N, Coulomb limit 500 N
   g.normal = Vec3::UnitX();
-  g.effective_mass = 0.05;
+  g.damping = damping_coefficient(p.damping_ratio, 0.05, p.normal_stiffness);
   g.rolling_radius = 0.01;
   ContactHistory history;
   // Load: 10 steps of 3 m/s along y give Fs = -ks 3e-5 m ey = -300 N ey, below the limit.
