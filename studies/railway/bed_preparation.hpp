@@ -33,6 +33,10 @@
 //    its sides and ends push the stones in the shell into the cribs and shoulders, packing
 //    them against it. Without it the sleeper stands in a hole up to a stone's size too large
 //    and the crib stones lean loosely on it. The base is not pressed down (bed_preparation.cpp).
+// 5b. Consolidation (when `consolidation_gravity` > 1). With the design friction and local
+//    damping, the sleeper free across the track and vertically, gravity is raised that many
+//    times for `consolidation_time`: the bed compacts under the heavier sleeper and stones, and
+//    keeps part of that lateral stress when gravity returns to 1 g in the settling.
 // 6. Settling. With the design friction and local damping `local_damping`, the bed and the
 //    sleeper (released: free across the track and vertically) settle under gravity until at
 //    rest to `equilibrium_ratio`, or at `max_settling_time` (then the report says "settled NO"

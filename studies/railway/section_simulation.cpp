@@ -37,6 +37,7 @@ dem::Simulation make_section_simulation(const PushStudyConfig& c, const dem::Dom
   dem::SimulationSettings settings;
   settings.time_step_safety = c.time_step_safety;
   settings.guards = c.guards;
+  settings.gravity *= stage.gravity_factor;
   dem::Simulation sim(domain, materials, settings);
   for (dem::ClumpSpec stone : stones) {
     stone.material = kBallast;

@@ -16,6 +16,7 @@ struct StageSetup {
   double stone_friction = 0.5;         // mu of the ballast material in this stage
   double stone_local_damping = 0.0;    // alpha of the stones in this stage
   bool container_walls = false;        // vertical walls at x = +-toe (deposition)
+  double gravity_factor = 1.0;         // gravity this many times g (consolidation)
   std::optional<dem::RigidBox> sleeper;
 };
 

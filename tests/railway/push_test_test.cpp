@@ -233,6 +233,28 @@ TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base
   CHECK(q.base > 0.5 * r.sleeper_weight);
 }
 
+TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g", "[railway][consolidation]") {
+  // References: the stage's set duration, and statics after it: back at 1 g the sleeper's faces
+  // carry its weight (not ten times it) to the settling residue (2 %), the base most of it.
+  railway::PushStudyConfig config = tiny_config();
+  config.preparation.consolidation_gravity = 10.0;
+  config.preparation.consolidation_time = 0.02;
+  railway::PreparationReport report;
+  const railway::Packing consolidated = railway::prepare_bed(config, true, report);
+  REQUIRE(report.stages.size() == 3);
+  CHECK(report.stages[1].name == "consolidate");
+  CHECK(report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  railway::PushRun run;
+  run.velocity = config.push.velocity;
+  run.distance = 1e-4;
+  run.quiet = true;
+  const railway::PushResult r = railway::run_push(consolidated, consolidated.config, run);
+  const auto& q = r.curve.front().support;
+  CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
+  CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
+  CHECK(q.base > 0.5 * r.sleeper_weight);
+}
+
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
   const auto refused = [](const std::string& replace, const std::string& by) {
     std::string text = mfdem::test::kTinyBed;
@@ -245,6 +267,9 @@ TEST_CASE("a study config with bad values is refused naming file, key and value"
   CHECK_THROWS_WITH(refused("representation = \"ball\"", "representation = \"cube\""),
                     Catch::Contains("representation") && Catch::Contains("clump"));
   CHECK_THROWS_WITH(refused("[push]", "[push]\nvelocty = 0.1"), Catch::Contains("velocity"));
+  CHECK_THROWS_WITH(refused("max_settling_time = 0.1", "max_settling_time = 0.1\nconsolidation_gravity = 0.5"),
+                    Catch::Contains("tiny.toml") && Catch::Contains("consolidation_gravity") &&
+                        Catch::Contains("0.5"));
   // Geometry that parses but cannot be built is refused when the bed is prepared.
   railway::PreparationReport report;
   auto narrow = tiny_config();
