@@ -128,6 +128,8 @@ class Simulation {
   const TimeStepLimit& time_step_limit() const { return limit_; }
 
   const Bodies& bodies() const { return bodies_; }
+  // For states (positions, velocities): masses are fixed after prepare() (each pair keeps its
+  // dashpot from them).
   Bodies& mutable_bodies() { return bodies_; }
   const Elements& elements() const { return elements_; }
   const std::vector<PlaneWall>& walls() const { return walls_; }
