@@ -70,6 +70,20 @@ const railway::Packing& shared_packing() {
   return p;
 }
 
+// Statics of a prepared bed at u = 0 (a 0.1 mm push records it): the sleeper's faces carry its
+// weight to the settling residue (2 %), the base most of it.
+void check_rests_on_its_base(const railway::Packing& packing) {
+  railway::PushRun run;
+  run.velocity = packing.config.push.velocity;
+  run.distance = 1e-4;
+  run.quiet = true;
+  const railway::PushResult r = railway::run_push(packing, packing.config, run);
+  const auto& q = r.curve.front().support;
+  CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
+  CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
+  CHECK(q.base > 0.5 * r.sleeper_weight);
+}
+
 }  // namespace
 
 TEST_CASE("the same seed gives bitwise the same packing and push on 1 and 2 threads", "[railway][threads]") {
@@ -222,15 +236,7 @@ TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base
   CHECK(tamped.bodies.size() > plain.bodies.size());
   CHECK((tamped.sleeper.half_extent - plain.sleeper.half_extent).norm() < 1e-12);
   CHECK(tamped.sleeper.growth_rate.norm() == 0.0);
-  railway::PushRun run;
-  run.velocity = config.push.velocity;
-  run.distance = 1e-4;
-  run.quiet = true;
-  const railway::PushResult r = railway::run_push(tamped, tamped.config, run);
-  const auto& q = r.curve.front().support;
-  CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
-  CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
-  CHECK(q.base > 0.5 * r.sleeper_weight);
+  check_rests_on_its_base(tamped);
 }
 
 TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g", "[railway][consolidation]") {
@@ -244,15 +250,7 @@ TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g"
   REQUIRE(report.stages.size() == 3);
   CHECK(report.stages[1].name == "consolidate");
   CHECK(report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
-  railway::PushRun run;
-  run.velocity = config.push.velocity;
-  run.distance = 1e-4;
-  run.quiet = true;
-  const railway::PushResult r = railway::run_push(consolidated, consolidated.config, run);
-  const auto& q = r.curve.front().support;
-  CAPTURE(q.base, q.crib, q.shoulder, r.sleeper_weight);
-  CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - r.sleeper_weight) < 0.02 * r.sleeper_weight);
-  CHECK(q.base > 0.5 * r.sleeper_weight);
+  check_rests_on_its_base(consolidated);
 }
 
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
