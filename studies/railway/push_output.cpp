@@ -104,10 +104,10 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       "peak_pressing_base = {:.6g}\npeak_pressing_crib = {:.6g}\npeak_pressing_shoulder = {:.6g}\n"
       "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.max_contact_force,
-      r.contact_force_q999, r.mean_contact_force, r.parts_at_peak.base, r.parts_at_peak.crib,
-      r.parts_at_peak.shoulder, r.parts_at_peak.top, r.curve.front().support.base, r.curve.front().support.crib,
-      r.curve.front().support.shoulder, r.pressing_at_peak.base, r.pressing_at_peak.crib,
-      r.pressing_at_peak.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
+      r.contact_force_q999, r.mean_contact_force, r.at_peak().parts.base, r.at_peak().parts.crib,
+      r.at_peak().parts.shoulder, r.at_peak().parts.top, r.curve.front().support.base, r.curve.front().support.crib,
+      r.curve.front().support.shoulder, r.at_peak().pressing.base, r.at_peak().pressing.crib,
+      r.at_peak().pressing.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
 }
 
@@ -123,10 +123,10 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   const auto share = [&](double part) {
     return fmt::format("{:.3f} ({:.0f} %)", part * 1e-3, r.peak_force > 0.0 ? 100.0 * part / r.peak_force : 0.0);
   };
-  row("  base: sleeper bottom (kN)", share(r.parts_at_peak.base));
-  row("  crib: sides along the track (kN)", share(r.parts_at_peak.crib));
-  row("  shoulder: sleeper ends (kN)", share(r.parts_at_peak.shoulder));
-  if (r.parts_at_peak.top != 0.0) row("  top face (kN)", share(r.parts_at_peak.top));
+  row("  base: sleeper bottom (kN)", share(r.at_peak().parts.base));
+  row("  crib: sides along the track (kN)", share(r.at_peak().parts.crib));
+  row("  shoulder: sleeper ends (kN)", share(r.at_peak().parts.shoulder));
+  if (r.at_peak().parts.top != 0.0) row("  top face (kN)", share(r.at_peak().parts.top));
   // Who carries the sleeper's weight: a base that carries less than the weight leaves the rest
   // hanging on the cribs by side friction, and the base friction resists with that much less.
   const double weight = r.sleeper_weight;
@@ -136,16 +136,16 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("sleeper weight (kN)", fmt::format("{:.3f}", weight * 1e-3));
   row("  carried by the base at u = 0 (kN)", carried(r.curve.front().support.base));
   row("  by the crib sides at u = 0 (kN)", carried(r.curve.front().support.crib));
-  row("  by the base at the peak (kN)", carried(r.support_at_peak.base));
-  row("  by the crib sides at the peak (kN)", carried(r.support_at_peak.crib));
+  row("  by the base at the peak (kN)", carried(r.at_peak().support.base));
+  row("  by the crib sides at the peak (kN)", carried(r.at_peak().support.crib));
   // How far friction is used on the faces where it is the only resistance: mu would be full.
   const auto used = [](double part, double pressing) {
     return pressing > 0.0 ? fmt::format("{:.2f}", part / pressing) : std::string("-");
   };
   row("stone-sleeper friction mu", fmt::format("{:.2f}", r.sleeper_friction));
-  row("friction used at the peak: base", used(r.parts_at_peak.base, r.pressing_at_peak.base));
-  row("  crib (F part / normal force)", used(r.parts_at_peak.crib, r.pressing_at_peak.crib));
-  row("  crib sides pressed with (kN)", fmt::format("{:.3f}", r.pressing_at_peak.crib * 1e-3));
+  row("friction used at the peak: base", used(r.at_peak().parts.base, r.at_peak().pressing.base));
+  row("  crib (F part / normal force)", used(r.at_peak().parts.crib, r.at_peak().pressing.crib));
+  row("  crib sides pressed with (kN)", fmt::format("{:.3f}", r.at_peak().pressing.crib * 1e-3));
   row("F(u_end) (kN)", fmt::format("{:.3f}", r.curve.back().force * 1e-3));
   row("max particle contact force (kN)", fmt::format("{:.3f}", r.max_contact_force * 1e-3));
   row("  99.9 % quantile (kN)", fmt::format("{:.3f}", r.contact_force_q999 * 1e-3));

@@ -43,10 +43,8 @@ ResistanceParts face_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f, int a
 }
 
 void summarise_curve(PushResult& r) {
-  for (const auto& s : r.curve)
-    if (s.force > r.peak_force)
-      r.peak_force = s.force, r.u_at_peak = s.u, r.parts_at_peak = s.parts, r.support_at_peak = s.support,
-      r.pressing_at_peak = s.pressing;
+  for (std::size_t k = 0; k < r.curve.size(); ++k)
+    if (r.curve[k].force > r.peak_force) r.peak_force = r.curve[k].force, r.u_at_peak = r.curve[k].u, r.peak_sample = k;
   r.final_heave = r.curve.back().heave;
   for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
 }

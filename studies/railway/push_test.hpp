@@ -76,9 +76,7 @@ struct PushResult {
   std::vector<ForceSample> curve;
   std::vector<NetworkSample> network;
   double peak_force = 0.0, u_at_peak = 0.0;
-  ResistanceParts parts_at_peak;          // of the peak sample
-  ResistanceParts support_at_peak;        // of the peak sample (at u = 0: curve.front().support)
-  ResistanceParts pressing_at_peak;       // of the peak sample
+  std::size_t peak_sample = 0;            // index of the peak in curve
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
   double final_heave = 0.0;
@@ -90,6 +88,8 @@ struct PushResult {
   std::vector<dem::Vec3> start_position, end_position;  // stone centres
   std::vector<dem::Vec3> displacement;               // end - start (periodic images resolved)
   std::vector<std::int64_t> stone_id;
+
+  const ForceSample& at_peak() const { return curve[peak_sample]; }  // its parts, support, pressing
 };
 
 struct PushRun {

@@ -168,7 +168,7 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
     const auto& q = s.parts;
     CHECK(std::abs(q.base + q.crib + q.shoulder + q.top - s.force) < 1e-9 * (std::abs(s.force) + 1.0));
   }
-  const auto& at_peak = r.parts_at_peak;
+  const auto& at_peak = r.at_peak().parts;
   INFO("parts at the peak: base " << at_peak.base << ", crib " << at_peak.crib << ", shoulder " << at_peak.shoulder);
   CHECK(at_peak.base > 0.0);
   // The faces carry the sleeper's weight: at u = 0 the sleeper rests on the settled bed, so the
