@@ -84,6 +84,7 @@ void read_push(const Section& s, PushSettings& p) {
                                 "local damping alpha of the stones while pushing");
   p.network_samples = static_cast<int>(s.integer_or("network_samples", p.network_samples, {.min = 1},
                                                     "samples of the inertial number during the push"));
+  p.sleeper_held_vertically = s.choice("sleeper_vertical", {"free", "held"}, "free") == "held";
   if (p.record_interval > p.distance) s.fail("record_interval", "at most the push distance");
 }
 

@@ -55,6 +55,11 @@ struct PushSettings {
   // viscous contact damping (damping_ratio) still takes out the rattle.
   double local_damping = 0.0;
   int network_samples = 50;        // inertial-number and stress samples during the push
+  // The sleeper's vertical motion: free under its own weight (the default, as a sleeper of an
+  // unloaded track), or held at its settled height ("held", as a PFC wall sleeper driven only
+  // across the track): the bed's dilation then presses the base and the sleeper's weight no
+  // longer caps the base friction.
+  bool sleeper_held_vertically = false;
 };
 
 struct PushStudyConfig {

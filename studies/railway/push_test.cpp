@@ -96,7 +96,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   stage.stone_local_damping = c.push.local_damping;
   dem::RigidBox sleeper = packing.sleeper;
   sleeper.velocity = dem::Vec3::Zero();  // speeds up over the ramp (below)
-  sleeper.driven = {true, true, false};
+  sleeper.driven = {true, true, c.push.sleeper_held_vertically};
   stage.sleeper = sleeper;
   dem::Simulation sim = make_section_simulation(c, packing.domain, packing.bodies, stage);
   sim.set_initial_springs(packing.springs);
@@ -110,6 +110,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   r.elements = sim.elements().size();
   r.sleeper_weight = sim.boxes()[0].mass * sim.settings().gravity.norm();
   r.sleeper_friction = sim.materials().pair(kBallast, kSleeper).friction;
+  r.sleeper_held_vertically = c.push.sleeper_held_vertically;
   double mean_size = 0.0;
   for (const auto& s : packing.stones) {
     mean_size += s.size;

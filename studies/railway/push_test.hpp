@@ -1,8 +1,8 @@
 #pragma once
 // The lateral push test of a prepared bed (definitions in ../shared/design.md):
 // - the sleeper is driven along +x at `velocity` (reached after a linear speed-up over
-//   ramp_distance, 0.1 mm by default), held along y, free vertically under its own weight, never
-//   rotating, until it has moved `distance` (u_end);
+//   ramp_distance, 0.1 mm by default), held along y, free vertically under its own weight (or,
+//   as an option, held at its settled height, as a PFC wall sleeper), never rotating, until it has moved `distance` (u_end);
 // - lateral force F(u) = minus the x component of the sum of the stones' contact forces on the
 //   sleeper; each F(u) sample is the mean over the record interval ending at u (the per-step
 //   force carries the rattle of single contacts);
@@ -82,6 +82,7 @@ struct PushResult {
   double final_heave = 0.0;
   double sleeper_weight = 0.0;            // N, m g
   double sleeper_friction = 0.0;          // mu of the stone-sleeper contacts
+  bool sleeper_held_vertically = false;   // true: held at its height, not free under its weight
   double time_step = 0.0, wall_seconds = 0.0;
   std::int64_t steps = 0, stones = 0, elements = 0;
   std::vector<dem::ContactRecord> end_contacts;      // stone-stone, at u_end

@@ -197,6 +197,30 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   CHECK(std::abs(r.curve.back().u - r.distance) <= r.velocity * r.time_step);
 }
 
+TEST_CASE("a sleeper held vertically keeps its height while the free one settles or rises", "[railway][push]") {
+  const railway::Packing& p = shared_packing();
+  railway::PushStudyConfig held = p.config;
+  held.push.sleeper_held_vertically = true;
+  railway::PushRun run;
+  run.velocity = p.config.push.velocity;
+  run.distance = p.config.push.distance;
+  run.quiet = true;
+  const railway::PushResult h = railway::run_push(p, held, run);
+  const railway::PushResult f = push_with(p, 1);
+  REQUIRE(h.status == "finished");
+  CHECK(h.sleeper_held_vertically);
+  CHECK_FALSE(f.sleeper_held_vertically);
+  // Held: its vertical velocity is driven at zero, so the height never changes, to the bit.
+  for (const auto& s : h.curve) CHECK(s.heave == 0.0);
+  // Free: it moves vertically by more than round-off (the bed under it shears); the same start
+  // state, so both begin with the weight on the faces (2 %, the settling residue).
+  CAPTURE(f.final_heave);
+  CHECK(std::abs(f.final_heave) > 1e-6);
+  const auto& q0 = h.curve.front().support;
+  CHECK(std::abs(q0.base + q0.crib + q0.shoulder + q0.top - h.sleeper_weight) < 0.02 * h.sleeper_weight);
+  CHECK(h.curve.front().force == f.curve.front().force);
+}
+
 TEST_CASE("the pressing split takes each face's inward normal force", "[railway][push]") {
   // Reference: the sign convention of dem::BoxFace. A stone on a minus face pushes the box
   // towards +axis, one on a plus face towards -axis; both press. Tangential components (friction)
@@ -268,6 +292,9 @@ TEST_CASE("a study config with bad values is refused naming file, key and value"
   CHECK_THROWS_WITH(refused("max_settling_time = 0.1", "max_settling_time = 0.1\nconsolidation_gravity = 0.5"),
                     Catch::Contains("tiny.toml") && Catch::Contains("consolidation_gravity") &&
                         Catch::Contains("0.5"));
+  CHECK_THROWS_WITH(refused("[push]", "[push]\nsleeper_vertical = \"fixed\""),
+                    Catch::Contains("tiny.toml") && Catch::Contains("sleeper_vertical") &&
+                        Catch::Contains("fixed") && Catch::Contains("held"));
   // Geometry that parses but cannot be built is refused when the bed is prepared.
   railway::PreparationReport report;
   auto narrow = tiny_config();
