@@ -184,6 +184,9 @@ void Simulation::prepare() {
   for (Index b = 0; b < bodies_.size(); ++b)
     if (!point_body_[b]) clump_bodies_.push_back(b);
   any_periodic_ = domain_.periodic[0] || domain_.periodic[1] || domain_.periodic[2];
+  any_rolling_ = false;
+  for (int a = 0; a < materials_.size(); ++a)
+    for (int b = 0; b < materials_.size(); ++b) any_rolling_ = any_rolling_ || materials_.pair(a, b).rolling_friction > 0.0;
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
   rebuild();
@@ -549,52 +552,42 @@ double Simulation::release_pair(Index p, const Vec3& d) {
   return energy;
 }
 
-// One pair's contact for this step: updates its history and activity flag and returns the
-// forces and torques (zero when apart) and the energy it dissipated.
 template <bool kPointBodies>
-Simulation::PairResult Simulation::compute_pair(Index p, const Vec3& length, double dt) {
-  PairResult out;
+void Simulation::load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d, double d2) const {
   const Index i = pairs_.first[p], j = pairs_.second[p];
-  const double ri = elements_.radius[i], rj = elements_.radius[j];
-  const Vec3 d = separation(p, length);
-  const double reach = ri + rj;
-  const double r2 = d.squaredNorm();
-  // With only spheres, element k is body k and sits at its centre: skip the indirection.
+  // With only spheres, element k is body k and sits at its centre: no indirection, no lever.
   const Index bi = kPointBodies ? i : elements_.body[i];
   const Index bj = kPointBodies ? j : elements_.body[j];
-  const Vec3& wi = bodies_.angular_velocity[bi];
-  const Vec3& wj = bodies_.angular_velocity[bj];
-  auto lever = [&](Index e, Index b) -> Vec3 {
-    return kPointBodies ? Vec3::Zero() : Vec3(elements_.position[e] - bodies_.position[b]);
-  };
-  if (r2 >= reach * reach) {
-    if (pair_active_[p]) out.friction = release_pair(p, d);
-    return out;
-  }
-  pair_active_[p] = 1;
-  out.active = true;
-  const double r = std::sqrt(r2);
-  ContactGeometry g;
-  g.normal = d * (1.0 / r);  // one division, not three
-  g.overlap = reach - r;
-  out.too_deep = g.overlap > settings_.guards.max_overlap_fraction * std::min(ri, rj);
-  const Vec3 arm_i = (ri - 0.5 * g.overlap) * g.normal;
-  const Vec3 arm_j = -(rj - 0.5 * g.overlap) * g.normal;
-  const Vec3 vi = bodies_.velocity[bi] + wi.cross(lever(i, bi) + arm_i);
-  const Vec3 vj = bodies_.velocity[bj] + wj.cross(lever(j, bj) + arm_j);
-  g.relative_velocity = vj - vi;
-  g.relative_spin = wj - wi;
-  g.frame_spin = 0.5 * (wi + wj).dot(g.normal);
-  g.damping = pair_dashpot_[p];
-  g.rolling_radius = ri * rj / reach;
-  const ContactOutcome c = evaluate_contact(
-      materials_.pair(elements_.material[i], elements_.material[j]), g, pair_history_[p], dt);
-  out.force = c.force;
-  out.torque_first = -arm_i.cross(c.force) - c.rolling_moment;
-  out.torque_second = arm_j.cross(c.force) + c.rolling_moment;
-  out.damping = c.dissipated_damping;
-  out.friction += c.dissipated_friction;
-  return out;
+  batch.dx[lane] = d.x(), batch.dy[lane] = d.y(), batch.dz[lane] = d.z();
+  batch.d2[lane] = d2;
+  batch.ra[lane] = elements_.radius[i], batch.rb[lane] = elements_.radius[j];
+  const Vec3& va = bodies_.velocity[bi];
+  const Vec3& vb = bodies_.velocity[bj];
+  const Vec3& wa = bodies_.angular_velocity[bi];
+  const Vec3& wb = bodies_.angular_velocity[bj];
+  batch.vax[lane] = va.x(), batch.vay[lane] = va.y(), batch.vaz[lane] = va.z();
+  batch.vbx[lane] = vb.x(), batch.vby[lane] = vb.y(), batch.vbz[lane] = vb.z();
+  batch.wax[lane] = wa.x(), batch.way[lane] = wa.y(), batch.waz[lane] = wa.z();
+  batch.wbx[lane] = wb.x(), batch.wby[lane] = wb.y(), batch.wbz[lane] = wb.z();
+  const Vec3 la = kPointBodies ? Vec3::Zero() : Vec3(elements_.position[i] - bodies_.position[bi]);
+  const Vec3 lb = kPointBodies ? Vec3::Zero() : Vec3(elements_.position[j] - bodies_.position[bj]);
+  batch.lax[lane] = la.x(), batch.lay[lane] = la.y(), batch.laz[lane] = la.z();
+  batch.lbx[lane] = lb.x(), batch.lby[lane] = lb.y(), batch.lbz[lane] = lb.z();
+  const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
+  batch.kn[lane] = pp.normal_stiffness, batch.ks[lane] = pp.shear_stiffness;
+  batch.mu[lane] = pp.friction, batch.mu_r[lane] = pp.rolling_friction;
+  batch.cn[lane] = pair_dashpot_[p];
+  const ContactHistory& h = pair_history_[p];
+  batch.sx[lane] = h.shear_force.x(), batch.sy[lane] = h.shear_force.y(), batch.sz[lane] = h.shear_force.z();
+  batch.mx[lane] = h.rolling_moment.x(), batch.my[lane] = h.rolling_moment.y(), batch.mz[lane] = h.rolling_moment.z();
+  batch.damping_force[lane] = h.damping_force;
+}
+
+void Simulation::store_springs(const ContactBatch& batch, int lane, Index p) {
+  ContactHistory& h = pair_history_[p];
+  h.shear_force = Vec3(batch.sx[lane], batch.sy[lane], batch.sz[lane]);
+  h.rolling_moment = Vec3(batch.mx[lane], batch.my[lane], batch.mz[lane]);
+  h.damping_force = batch.damping_force[lane];
 }
 
 // Pair forces, summed into the elements in increasing pair order whatever the thread count:
@@ -641,23 +634,49 @@ void Simulation::evaluate_pairs_of() {
     const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
     // Energy is summed per row (the first element), in pair order, then over elements in
     // chunk order: the same sums on any thread count.
-    auto record = [&](Index p, const PairResult& r) {
-      row_damping_[pairs_.first[p]] += r.damping;
-      row_friction_[pairs_.first[p]] += r.friction;
-      if (r.too_deep) bad_pair = std::min(bad_pair, p);
+    ContactBatch batch;
+    Index lane_pair[kContactBatch];
+    const double max_overlap = settings_.guards.max_overlap_fraction;
+    auto too_deep = [&](int lane) {
+      return batch.overlap[lane] > max_overlap * std::min(batch.ra[lane], batch.rb[lane]);
     };
-    // The last block has no later block to store pairs for (phase A), and the first no earlier
-    // one to take stored pairs from: on one thread both loops are skipped.
-    for (Index p = p0; p < (t + 1 < nt ? p1 : p0); ++p) {  // phase A
+    // Adds pair p to the batch if it touches (and marks it active). An active pair that has
+    // opened is left to the caller to release.
+    auto load_if_touching = [&](Index p) {
+      const Vec3 d = separation(p, length);
+      const double d2 = d.squaredNorm();
+      const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+      if (d2 >= reach * reach) return false;
+      pair_active_[p] = 1;
+      load_lane<kPointBodies>(batch, batch.size, p, d, d2);
+      lane_pair[batch.size++] = p;
+      return true;
+    };
+    // Phase A: the pairs whose second element lies in a later block, computed and stored. The
+    // last block has no later block to store pairs for, and the first no earlier one to take
+    // stored pairs from (phase B): on one thread both are skipped.
+    auto store_batch = [&]() {
+      compute_contacts(batch, dt, any_rolling_);
+      for (int k = 0; k < batch.size; ++k) {
+        const Index p = lane_pair[k];
+        store_springs(batch, k, p);
+        if (too_deep(k)) bad_pair = std::min(bad_pair, p);
+        pair_damping_[p] = batch.dissipated_damping[k];
+        pair_friction_[p] = batch.dissipated_friction[k];
+        pair_force_[p] = Vec3(batch.fx[k], batch.fy[k], batch.fz[k]);
+        pair_torque_first_[p] = Vec3(batch.tax[k], batch.tay[k], batch.taz[k]);
+        pair_torque_second_[p] = Vec3(batch.tbx[k], batch.tby[k], batch.tbz[k]);
+      }
+      batch.size = 0;
+    };
+    for (Index p = p0; p < (t + 1 < nt ? p1 : p0); ++p) {
       if (pairs_.second[p] < e1) continue;
-      const PairResult r = compute_pair<kPointBodies>(p, length, dt);
-      if (r.too_deep) bad_pair = std::min(bad_pair, p);
-      pair_damping_[p] = r.damping;
-      pair_friction_[p] = r.friction;
-      pair_force_[p] = r.force;
-      pair_torque_first_[p] = r.torque_first;
-      pair_torque_second_[p] = r.torque_second;
+      if (batch.size == kContactBatch) store_batch();
+      if (load_if_touching(p)) continue;
+      pair_damping_[p] = 0.0;
+      pair_friction_[p] = pair_active_[p] ? release_pair(p, separation(p, length)) : 0.0;
     }
+    if (batch.size > 0) store_batch();
 #pragma omp barrier
     for (Index e = e0; e < (t > 0 ? e1 : e0); ++e) {  // phase B: stored pairs of earlier blocks
       for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
@@ -682,25 +701,47 @@ void Simulation::evaluate_pairs_of() {
       work[n_work] = p;
       n_work += static_cast<Index>((j >= e1) | (pair_active_[p] != 0) | !apart);
     }
-    for (Index k = 0; k < n_work; ++k) {  // phase B: own rows in order
-      const Index p = work[k];
-      const Index i = pairs_.first[p], j = pairs_.second[p];
-      if (j >= e1) {
-        row_damping_[i] += pair_damping_[p];
-        row_friction_[i] += pair_friction_[p];
-        if (!pair_active_[p]) continue;
-        element_force_[i] -= pair_force_[p];
-        element_torque_[i] += pair_torque_first_[p];
-        continue;
+    // Phase B, own rows in pair order: the touching pairs a batch at a time, then their sums
+    // (with the stored pairs and the releases between them) in pair order.
+    for (Index k0 = 0; k0 < n_work;) {
+      Index k1 = k0;
+      for (; k1 < n_work; ++k1) {
+        const Index p = work[k1];
+        if (pairs_.second[p] >= e1) continue;
+        if (batch.size == kContactBatch) break;  // this pair starts the next batch
+        load_if_touching(p);
       }
-      const PairResult r = compute_pair<kPointBodies>(p, length, dt);
-      record(p, r);
-      if (!r.active) continue;
-      pair_force_[p] = r.force;  // kept for contacts() and the output
-      element_force_[i] -= r.force;
-      element_torque_[i] += r.torque_first;
-      element_force_[j] += r.force;
-      element_torque_[j] += r.torque_second;
+      if (batch.size > 0) compute_contacts(batch, dt, any_rolling_);
+      int lane = 0;
+      for (Index k = k0; k < k1; ++k) {
+        const Index p = work[k];
+        const Index i = pairs_.first[p], j = pairs_.second[p];
+        if (j >= e1) {
+          row_damping_[i] += pair_damping_[p];
+          row_friction_[i] += pair_friction_[p];
+          if (!pair_active_[p]) continue;
+          element_force_[i] -= pair_force_[p];
+          element_torque_[i] += pair_torque_first_[p];
+          continue;
+        }
+        if (lane < batch.size && lane_pair[lane] == p) {
+          store_springs(batch, lane, p);
+          row_damping_[i] += batch.dissipated_damping[lane];
+          row_friction_[i] += batch.dissipated_friction[lane];
+          if (too_deep(lane)) bad_pair = std::min(bad_pair, p);
+          const Vec3 f(batch.fx[lane], batch.fy[lane], batch.fz[lane]);
+          pair_force_[p] = f;  // kept for contacts() and the output
+          element_force_[i] -= f;
+          element_torque_[i] += Vec3(batch.tax[lane], batch.tay[lane], batch.taz[lane]);
+          element_force_[j] += f;
+          element_torque_[j] += Vec3(batch.tbx[lane], batch.tby[lane], batch.tbz[lane]);
+          ++lane;
+          continue;
+        }
+        row_friction_[i] += release_pair(p, separation(p, length));  // an active contact that opened
+      }
+      batch.size = 0;
+      k0 = k1;
     }
 #pragma omp barrier
 #pragma omp for schedule(static)

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "dem/bodies.hpp"
+#include "dem/contact_batch.hpp"
 #include "dem/contact_law.hpp"
 #include "dem/domain.hpp"
 #include "dem/material.hpp"
@@ -209,13 +210,12 @@ class Simulation {
   std::vector<double> pair_damping_, pair_friction_;  // energy of stored pairs this step, J
   std::vector<double> row_damping_, row_friction_;    // energy of each element's row, J
   bool all_point_bodies_ = false;                      // spheres only: no body indirection
-  struct PairResult {
-    bool active = false, too_deep = false;
-    Vec3 force = Vec3::Zero(), torque_first = Vec3::Zero(), torque_second = Vec3::Zero();
-    double damping = 0.0, friction = 0.0;
-  };
+  bool any_rolling_ = false;                           // some material pair has mu_r > 0
+  // Pair p, which touches (|d|^2 = d2 < reach^2), into lane `lane` of the batch, and its
+  // updated springs back from it (dem/contact_batch.hpp).
   template <bool kPointBodies>
-  [[gnu::always_inline]] inline PairResult compute_pair(Index p, const Vec3& length, double dt);
+  [[gnu::always_inline]] inline void load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d, double d2) const;
+  [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
   template <bool kPointBodies>
   void evaluate_pairs_of();
   // Vector from pair p's first element to its second (periodic image included).
