@@ -189,6 +189,8 @@ void Simulation::prepare() {
     for (int b = 0; b < materials_.size(); ++b) any_rolling_ = any_rolling_ || materials_.pair(a, b).rolling_friction > 0.0;
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
+  std::fill(bodies_.force.begin(), bodies_.force.end(), Vec3::Zero());  // the pair loop's sums start here
+  std::fill(bodies_.torque.begin(), bodies_.torque.end(), Vec3::Zero());
   rebuild();
   apply_initial_springs();
   evaluate_pairs();
@@ -361,6 +363,10 @@ void Simulation::drift_and_kick() {
       first_bad = std::min(first_bad, b);
     if (point_body_[b]) {
       kick(b, bodies_.force[b], bodies_.torque[b], half);
+      if (all_point_bodies_) {  // the pair loop sums into them (evaluate_pairs_of)
+        bodies_.force[b] = Vec3::Zero();
+        bodies_.torque[b] = Vec3::Zero();
+      }
       bodies_.position[b] += dt_ * bodies_.velocity[b];
       const Index e = bodies_.element_begin(b);
       elements_.position[e] = bodies_.position[b];
@@ -620,6 +626,11 @@ void Simulation::evaluate_pairs_of() {
   }
   pair_damping_.resize(np);
   pair_friction_.resize(np);
+  // Spheres only: element k is body k, and the pair sums go straight into the bodies' force and
+  // torque (drift_and_kick zeroed them after its half kick), sparing a pass over a second pair
+  // of arrays. Clumps sum per element; gather_and_kick adds the pebbles' lever torques.
+  Vec3* const force_sum = kPointBodies ? bodies_.force.data() : element_force_.data();
+  Vec3* const torque_sum = kPointBodies ? bodies_.torque.data() : element_torque_.data();
   const Vec3 length = domain_.length();
   const double dt = dt_;
   const Index chunks = chunk_count(ne);
@@ -683,8 +694,8 @@ void Simulation::evaluate_pairs_of() {
         const Index p = pairs_.as_second_pair[k];
         if (p >= p0) break;
         if (!pair_active_[p]) continue;
-        element_force_[e] += pair_force_[p];
-        element_torque_[e] += pair_torque_second_[p];
+        force_sum[e] += pair_force_[p];
+        torque_sum[e] += pair_torque_second_[p];
       }
     }
     // Phase B visits only the pairs that do something: stored ones, touching ones, and active
@@ -720,8 +731,8 @@ void Simulation::evaluate_pairs_of() {
           row_damping_[i] += pair_damping_[p];
           row_friction_[i] += pair_friction_[p];
           if (!pair_active_[p]) continue;
-          element_force_[i] -= pair_force_[p];
-          element_torque_[i] += pair_torque_first_[p];
+          force_sum[i] -= pair_force_[p];
+          torque_sum[i] += pair_torque_first_[p];
           continue;
         }
         if (lane < batch.size && lane_pair[lane] == p) {
@@ -731,10 +742,10 @@ void Simulation::evaluate_pairs_of() {
           if (too_deep(lane)) bad_pair = std::min(bad_pair, p);
           const Vec3 f(batch.fx[lane], batch.fy[lane], batch.fz[lane]);
           pair_force_[p] = f;  // kept for contacts() and the output
-          element_force_[i] -= f;
-          element_torque_[i] += Vec3(batch.tax[lane], batch.tay[lane], batch.taz[lane]);
-          element_force_[j] += f;
-          element_torque_[j] += Vec3(batch.tbx[lane], batch.tby[lane], batch.tbz[lane]);
+          force_sum[i] -= f;
+          torque_sum[i] += Vec3(batch.tax[lane], batch.tay[lane], batch.taz[lane]);
+          force_sum[j] += f;
+          torque_sum[j] += Vec3(batch.tbx[lane], batch.tby[lane], batch.tbz[lane]);
           ++lane;
           continue;
         }
@@ -765,6 +776,10 @@ void Simulation::evaluate_pairs_of() {
     // gather_and_kick will not run to zero the sums (see above).
     std::fill(element_force_.begin(), element_force_.end(), Vec3::Zero());
     std::fill(element_torque_.begin(), element_torque_.end(), Vec3::Zero());
+    if (kPointBodies) {
+      std::fill(bodies_.force.begin(), bodies_.force.end(), Vec3::Zero());
+      std::fill(bodies_.torque.begin(), bodies_.torque.end(), Vec3::Zero());
+    }
     const Index i = pairs_.first[bad_pair], j = pairs_.second[bad_pair];
     fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
                      "(stiffness too low for the load, or time step too large)",
@@ -804,10 +819,17 @@ void Simulation::gather_and_kick() {
       Vec3 torque = Vec3::Zero();
       const Index e_end = bodies_.element_end(b);
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
-        Vec3 fe = element_force_[e];
-        Vec3 te = element_torque_[e];
-        element_force_[e] = Vec3::Zero();  // the next evaluate_pairs sums from zero
-        element_torque_[e] = Vec3::Zero();
+        // The pair sums (see evaluate_pairs_of), zeroed as read: the next evaluate_pairs sums from zero.
+        Vec3 fe, te;
+        if (all_point_bodies_) {
+          fe = bodies_.force[b];
+          te = bodies_.torque[b];
+        } else {
+          fe = element_force_[e];
+          te = element_torque_[e];
+          element_force_[e] = Vec3::Zero();
+          element_torque_[e] = Vec3::Zero();
+        }
         const double re = elements_.radius[e];
         const Vec3& xe = elements_.position[e];
         const std::size_t nw_e = near_wall_[e] ? nw : 0;  // see scan_walls
