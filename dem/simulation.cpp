@@ -741,7 +741,6 @@ void Simulation::evaluate_pairs_of() {
           row_friction_[i] += batch.dissipated_friction[lane];
           if (too_deep(lane)) bad_pair = std::min(bad_pair, p);
           const Vec3 f(batch.fx[lane], batch.fy[lane], batch.fz[lane]);
-          pair_force_[p] = f;  // kept for contacts() and the output
           force_sum[i] -= f;
           torque_sum[i] += Vec3(batch.tax[lane], batch.tay[lane], batch.taz[lane]);
           force_sum[j] += f;
@@ -1079,13 +1078,25 @@ Index Simulation::active_contact_count() const {
   return n;
 }
 
+// The force of active pair p on its second element, as the last step left it: Fn n + Fs, with
+// Fn = kn d - (kn d - Fn) from the spring's history; the pair loop keeps no copy of it.
+Vec3 Simulation::contact_force(Index p) const {
+  const Index i = pairs_.first[p], j = pairs_.second[p];
+  const Vec3 d = separation(p, domain_.length());
+  const double r = d.norm();
+  const double overlap = elements_.radius[i] + elements_.radius[j] - r;
+  const double kn = materials_.pair(elements_.material[i], elements_.material[j]).normal_stiffness;
+  const ContactHistory& h = pair_history_[p];
+  return (kn * overlap - h.damping_force) * (d / r) + h.shear_force;
+}
+
 double Simulation::unbalanced_force_ratio() const {
   double unbalanced = 0.0, contact = 0.0;
   Index contacts = 0;
   for (Index b = 0; b < bodies_.size(); ++b) unbalanced += bodies_.unbalanced_force[b].norm();
   for (Index p = 0; p < pairs_.size(); ++p) {
     if (!pair_active_[p]) continue;
-    contact += pair_force_[p].norm();
+    contact += contact_force(p).norm();
     ++contacts;
   }
   if (contacts == 0 || contact == 0.0) return std::numeric_limits<double>::infinity();
@@ -1098,14 +1109,14 @@ std::vector<ContactRecord> Simulation::contacts() const {
   for (Index p = 0; p < pairs_.size(); ++p) {
     if (!pair_active_[p]) continue;
     const Index i = pairs_.first[p], j = pairs_.second[p];
-    const Vec3 d = elements_.position[j] + image_shift(pairs_.image[p], length) - elements_.position[i];
+    const Vec3 d = separation(p, length);
     const double r = d.norm();
     const double overlap = elements_.radius[i] + elements_.radius[j] - r;
     ContactRecord c;
     c.body_a = elements_.body[i];
     c.body_b = elements_.body[j];
     c.point = elements_.position[i] + (elements_.radius[i] - 0.5 * overlap) * (d / r);
-    c.force = pair_force_[p];
+    c.force = contact_force(p);
     c.overlap = overlap;
     out.push_back(c);
   }

@@ -201,7 +201,7 @@ class Simulation {
   PairList pairs_;
   std::vector<ContactHistory> pair_history_;
   // Pairs that cross two threads' blocks are stored before they are summed.
-  std::vector<Vec3> pair_force_;         // on second
+  std::vector<Vec3> pair_force_;         // on second (stored pairs only; contact_force for any)
   std::vector<Vec3> pair_torque_first_;  // about the first element's centre
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
@@ -218,6 +218,7 @@ class Simulation {
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
   template <bool kPointBodies>
   void evaluate_pairs_of();
+  Vec3 contact_force(Index p) const;  // of an active pair, on its second element
   // Vector from pair p's first element to its second (periodic image included).
   [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
     const Vec3& xi = elements_.position[pairs_.first[p]];
