@@ -788,7 +788,9 @@ void Simulation::evaluate_pairs_of() {
 }
 
 void Simulation::gather_and_kick() {
+  constexpr Index kWallPrefetchDistance = 16;  // elements
   const Index nb = bodies_.size();
+  const Index ne = elements_.size();
   const Index chunks = chunk_count(nb);
   const std::size_t nw = walls_.size();
   body_chunk_energy_.assign(chunks, ChunkEnergy{});
@@ -818,6 +820,12 @@ void Simulation::gather_and_kick() {
       Vec3 torque = Vec3::Zero();
       const Index e_end = bodies_.element_end(b);
       for (Index e = bodies_.element_begin(b); e < e_end; ++e) {
+        // The wall springs of an element a few ahead are fetched now: few elements touch walls,
+        // far apart in the array, so the hardware does not foresee them and each one's history
+        // would otherwise be a wait for memory (measured 6 % of a sphere bed's step).
+        if (const Index ahead = e + kWallPrefetchDistance; nw > 0 && ahead < ne && near_wall_[ahead])
+          for (std::size_t w = 0; w < nw; ++w)
+            if (wall_active_[ahead * nw + w]) __builtin_prefetch(&wall_history_[ahead * nw + w]);
         // The pair sums (see evaluate_pairs_of), zeroed as read: the next evaluate_pairs sums from zero.
         Vec3 fe, te;
         if (all_point_bodies_) {
