@@ -611,6 +611,7 @@ void Simulation::evaluate_pairs() {
 
 template <bool kPointBodies>
 void Simulation::evaluate_pairs_of() {
+  constexpr Index kPairPrefetchDistance = 16;  // work-list entries
   const Index np = pairs_.size();
   const Index ne = elements_.size();
   const Index nb = bodies_.size();
@@ -720,6 +721,13 @@ void Simulation::evaluate_pairs_of() {
         const Index p = work[k1];
         if (pairs_.second[p] >= e1) continue;
         if (batch.size == kContactBatch) break;  // this pair starts the next batch
+        if (k1 + kPairPrefetchDistance < n_work) {  // see gather_and_kick's wall prefetch
+          const Index ahead = work[k1 + kPairPrefetchDistance];
+          __builtin_prefetch(&pair_history_[ahead]);
+          const Index body = kPointBodies ? pairs_.second[ahead] : elements_.body[pairs_.second[ahead]];
+          __builtin_prefetch(&bodies_.velocity[body]);
+          __builtin_prefetch(&bodies_.angular_velocity[body]);
+        }
         load_if_touching(p);
       }
       if (batch.size > 0) compute_contacts(batch, dt, any_rolling_);
