@@ -28,7 +28,9 @@ BoxFaceForces zero_faces() {
   return f;
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+// A body's state is finite: one test of the sum, since a NaN or an infinity in any component
+// makes the sum non-finite (a finite state would need components near 1e308 to overflow it).
+bool finite_state(const Vec3& x, const Vec3& v, const Vec3& w) { return std::isfinite((x + v + w).sum()); }
 
 // Energy the tangential and rolling springs of a contact that has just opened give up to
 // friction, J. The springs are discarded with the contact: in continuous time the Coulomb caps
@@ -358,8 +360,7 @@ void Simulation::drift_and_kick() {
 #pragma omp parallel for schedule(static) reduction(max : max_move2) reduction(min : first_bad) \
     if (nb > kChunkSize)
   for (Index b = 0; b < nb; ++b) {
-    if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
-          finite(bodies_.angular_velocity[b])))
+    if (!finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
       first_bad = std::min(first_bad, b);
     if (point_body_[b]) {
       kick(b, bodies_.force[b], bodies_.torque[b], half);
@@ -951,8 +952,7 @@ void Simulation::gather_and_kick() {
       bodies_.force[b] = force;
       bodies_.torque[b] = torque;
       if (kick_now) kick(b, force, torque, half);
-      if (acc.bad_body < 0 && !(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
-                                finite(bodies_.angular_velocity[b])))
+      if (acc.bad_body < 0 && !finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
         acc.bad_body = b;
     }
     body_chunk_energy_[c] = acc;
@@ -979,8 +979,7 @@ void Simulation::gather_and_kick() {
     work_by_walls_ += acc.wall_work;
     if (acc.bad_body >= 0) {
       const Index b = acc.bad_body;
-      if (!(finite(bodies_.position[b]) && finite(bodies_.velocity[b]) &&
-            finite(bodies_.angular_velocity[b])))
+      if (!finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
         fail(fmt::format("body {} has a non-finite position or velocity", b), b);
       fail(fmt::format("body {} overlaps a wall by more than {} of its radius", b, overlap_limit), b);
     }
