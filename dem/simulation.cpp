@@ -482,8 +482,7 @@ void Simulation::release_opened_contacts() {
   for (Index p = 0; p < pairs_.size(); ++p) {
     if (!pair_active_[p]) continue;
     const Vec3 d = separation(p, length);
-    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
-    if (d.squaredNorm() >= reach * reach) released += release_pair(p, d);
+    if (!overlapping(p, d.squaredNorm())) released += release_pair(p, d);
   }
   dissipated_friction_ += released;
 }
@@ -658,8 +657,7 @@ void Simulation::evaluate_pairs_of() {
     auto load_if_touching = [&](Index p) {
       const Vec3 d = separation(p, length);
       const double d2 = d.squaredNorm();
-      const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
-      if (d2 >= reach * reach) return false;
+      if (!overlapping(p, d2)) return false;
       pair_active_[p] = 1;
       load_lane<kPointBodies>(batch, batch.size, p, d, d2);
       lane_pair[batch.size++] = p;
@@ -708,11 +706,9 @@ void Simulation::evaluate_pairs_of() {
     work.resize(p1 - p0);
     Index n_work = 0;
     for (Index p = p0; p < p1; ++p) {
-      const Index i = pairs_.first[p], j = pairs_.second[p];
-      const double reach = elements_.radius[i] + elements_.radius[j];
-      const bool apart = separation(p, length).squaredNorm() >= reach * reach;
+      const bool touching = overlapping(p, separation(p, length).squaredNorm());
       work[n_work] = p;
-      n_work += static_cast<Index>((j >= e1) | (pair_active_[p] != 0) | !apart);
+      n_work += static_cast<Index>((pairs_.second[p] >= e1) | (pair_active_[p] != 0) | touching);
     }
     // Phase B, own rows in pair order: the touching pairs a batch at a time, then their sums
     // (with the stored pairs and the releases between them) in pair order.
@@ -1095,9 +1091,8 @@ Index Simulation::active_contact_count() const {
 
 // The force of active pair p on its second element, as the last step left it: Fn n + Fs, with
 // Fn = kn d - (kn d - Fn) from the spring's history; the pair loop keeps no copy of it.
-Vec3 Simulation::contact_force(Index p) const {
+Vec3 Simulation::contact_force(Index p, const Vec3& d) const {
   const Index i = pairs_.first[p], j = pairs_.second[p];
-  const Vec3 d = separation(p, domain_.length());
   const double r = d.norm();
   const double overlap = elements_.radius[i] + elements_.radius[j] - r;
   const double kn = materials_.pair(elements_.material[i], elements_.material[j]).normal_stiffness;
@@ -1106,12 +1101,13 @@ Vec3 Simulation::contact_force(Index p) const {
 }
 
 double Simulation::unbalanced_force_ratio() const {
+  const Vec3 length = domain_.length();
   double unbalanced = 0.0, contact = 0.0;
   Index contacts = 0;
   for (Index b = 0; b < bodies_.size(); ++b) unbalanced += bodies_.unbalanced_force[b].norm();
   for (Index p = 0; p < pairs_.size(); ++p) {
     if (!pair_active_[p]) continue;
-    contact += contact_force(p).norm();
+    contact += contact_force(p, separation(p, length)).norm();
     ++contacts;
   }
   if (contacts == 0 || contact == 0.0) return std::numeric_limits<double>::infinity();
@@ -1131,7 +1127,7 @@ std::vector<ContactRecord> Simulation::contacts() const {
     c.body_a = elements_.body[i];
     c.body_b = elements_.body[j];
     c.point = elements_.position[i] + (elements_.radius[i] - 0.5 * overlap) * (d / r);
-    c.force = contact_force(p);
+    c.force = contact_force(p, d);
     c.overlap = overlap;
     out.push_back(c);
   }

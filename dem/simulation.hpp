@@ -218,13 +218,19 @@ class Simulation {
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
   template <bool kPointBodies>
   void evaluate_pairs_of();
-  Vec3 contact_force(Index p) const;  // of an active pair, on its second element
+  Vec3 contact_force(Index p, const Vec3& d) const;  // of an active pair at separation d, on its second element
   // Vector from pair p's first element to its second (periodic image included).
   [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
     const Vec3& xi = elements_.position[pairs_.first[p]];
     const Vec3& xj = elements_.position[pairs_.second[p]];
     // Without periodic axes every image is zero: skip the int-to-double conversions.
     return any_periodic_ ? Vec3(xj + image_shift(pairs_.image[p], length) - xi) : Vec3(xj - xi);
+  }
+  // Pair p's elements overlap at squared separation d2 (the one test of touching, so that the
+  // pair loop's filter, its batch loading and the release of opened contacts agree to the bit).
+  [[gnu::always_inline]] inline bool overlapping(Index p, double d2) const {
+    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+    return !(d2 >= reach * reach);  // a NaN is not "apart": the finiteness guards name its body
   }
   bool any_periodic_ = false;
   std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits

@@ -57,8 +57,8 @@ struct PushSettings {
   int network_samples = 50;        // inertial-number and stress samples during the push
   // The sleeper's vertical motion: free under its own weight (the default, as a sleeper of an
   // unloaded track), or held at its settled height ("held", as a PFC wall sleeper driven only
-  // across the track): the bed's dilation then presses the base and the sleeper's weight no
-  // longer caps the base friction.
+  // across the track): the base then carries what the bed's dilation or contraction gives it,
+  // not the sleeper's weight.
   bool sleeper_held_vertically = false;
 };
 

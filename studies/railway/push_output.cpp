@@ -25,6 +25,9 @@ const char* const kPushDefinitions =
 
 namespace {
 
+// The [push] sleeper_vertical value the push ran with, as the config spells it.
+const char* sleeper_vertical(const PushResult& r) { return r.sleeper_held_vertically ? "held" : "free"; }
+
 template <class T, class F>
 std::vector<double> column(const std::vector<T>& rows, F field) {
   std::vector<double> out;
@@ -43,7 +46,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_attribute(file, "definitions", std::string(kPushDefinitions));
   write_attribute(file, "status", r.status);
   write_attribute(file, "message", r.message);
-  write_attribute(file, "sleeper_vertical", std::string(r.sleeper_held_vertically ? "held" : "free"));
+  write_attribute(file, "sleeper_vertical", std::string(sleeper_vertical(r)));
   const std::pair<const char*, double> numbers[] = {
       {"velocity", r.velocity}, {"distance", r.distance}, {"peak_force", r.peak_force},
       {"u_at_peak", r.u_at_peak}, {"max_contact_force", r.max_contact_force},
@@ -96,7 +99,7 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
   out << "# mfdem push summary; forces in N, lengths in m, times in s\n"
       << fmt::format("# {}\n", kPushDefinitions)
       << fmt::format("config = \"{}\"\nseed = {}\nstatus = \"{}\"\nsleeper_vertical = \"{}\"\n", p.config.name,
-                     p.config.seed, r.status, r.sleeper_held_vertically ? "held" : "free");
+                     p.config.seed, r.status, sleeper_vertical(r));
   if (!r.message.empty()) out << fmt::format("message = \"\"\"{}\"\"\"\n", r.message);
   out << fmt::format(
       "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\n"
@@ -120,7 +123,7 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   const auto row = [&](const std::string& name, const std::string& value) { fmt::print(out, "  {:<38} {:>12}\n", name, value); };
   row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));
   row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));
-  row("sleeper vertically", r.sleeper_held_vertically ? "held" : "free");
+  row("sleeper vertically", sleeper_vertical(r));
   row("peak lateral force (kN)", fmt::format("{:.3f}", r.peak_force * 1e-3));
   row("  at u (mm)", fmt::format("{:.3f}", r.u_at_peak * 1e3));
   const auto share = [&](double part) {
