@@ -190,6 +190,8 @@ void Simulation::prepare() {
   for (int a = 0; a < materials_.size(); ++a)
     for (int b = 0; b < materials_.size(); ++b) any_rolling_ = any_rolling_ || materials_.pair(a, b).rolling_friction > 0.0;
   all_point_bodies_ = std::all_of(point_body_.begin(), point_body_.end(), [](auto f) { return f != 0; });
+  const auto& m = elements_.material;
+  one_material_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](int k) { return k == m.front(); }) ? m.front() : -1;
   for (Index b = 0; b < bodies_.size(); ++b) update_element_positions(b);
   std::fill(bodies_.force.begin(), bodies_.force.end(), Vec3::Zero());  // the pair loop's sums start here
   std::fill(bodies_.torque.begin(), bodies_.torque.end(), Vec3::Zero());
@@ -236,7 +238,7 @@ void Simulation::apply_initial_springs() {
         for (Index p = pairs_.row_start[s.first]; p < pairs_.row_start[s.first + 1]; ++p)
           if (pairs_.second[p] == s.second) found = p;
         if (found < 0) refuse(s, "the elements are not neighbours (not the bed the springs were saved from?)");
-        pair_history_[found] = s.history;
+        set_pair_history(found, s.history);
         pair_active_[found] = 1;
         break;
       }
@@ -258,7 +260,7 @@ void Simulation::apply_initial_springs() {
 std::vector<SpringState> Simulation::contact_springs() const {
   std::vector<SpringState> out;
   for (Index p = 0; p < pairs_.size(); ++p)
-    if (pair_active_[p]) out.push_back({SpringState::Kind::kPair, pairs_.first[p], pairs_.second[p], pair_history_[p]});
+    if (pair_active_[p]) out.push_back({SpringState::Kind::kPair, pairs_.first[p], pairs_.second[p], pair_history(p)});
   const auto nw = static_cast<Index>(walls_.size()), nx = static_cast<Index>(boxes_.size());
   for (Index e = 0; e < elements_.size(); ++e) {
     for (Index w = 0; w < nw; ++w)
@@ -438,7 +440,8 @@ void Simulation::rebuild() {
   if (settings_.skin <= 0.0) skin_ = adaptive_skin();
   PairList fresh = build_pair_list(elements_, domain_, skin_);
   const Index n = fresh.size();
-  std::vector<ContactHistory> history(n);
+  std::vector<PairSpring> springs(n);
+  std::vector<Vec3> rolling(n, Vec3::Zero());
   // A carried contact stays active: if it opens at the next step, its spring must still be
   // released (and its energy counted) and cleared, not kept for a later touch.
   std::vector<std::uint8_t> active(n, 0);
@@ -450,13 +453,15 @@ void Simulation::rebuild() {
     const Index i = fresh.first[p], j = fresh.second[p];
     for (Index q = pairs_.row_start[i]; q < pairs_.row_start[i + 1]; ++q) {
       if (pairs_.second[q] != j || !pair_active_[q]) continue;
-      history[p] = pair_history_[q];
+      springs[p] = pair_spring_[q];
+      rolling[p] = pair_rolling_[q];
       active[p] = 1;
       break;
     }
   }
   pairs_ = std::move(fresh);
-  pair_history_ = std::move(history);
+  pair_spring_ = std::move(springs);
+  pair_rolling_ = std::move(rolling);
   pair_force_.assign(n, Vec3::Zero());
   pair_torque_first_.assign(n, Vec3::Zero());
   pair_torque_second_.assign(n, Vec3::Zero());
@@ -551,11 +556,27 @@ double Simulation::release_pair(Index p, const Vec3& d) {
                  bodies_.velocity[bi] - wi.cross(elements_.position[i] - bodies_.position[bi] + ri * n);
   const Vec3 spin = wj - wi;
   const double energy = released_spring_energy(materials_.pair(elements_.material[i], elements_.material[j]),
-                                               pair_history_[p], ri * rj / (ri + rj), v - v.dot(n) * n,
+                                               pair_history(p), ri * rj / (ri + rj), v - v.dot(n) * n,
                                                spin - spin.dot(n) * n, dt_);
-  pair_history_[p] = ContactHistory{};
+  set_pair_history(p, ContactHistory{});
   pair_active_[p] = 0;
   return energy;
+}
+
+template <bool kPointBodies>
+void Simulation::prefill_batch(ContactBatch& batch) const {
+  for (int lane = 0; lane < kContactBatch; ++lane) {
+    if (kPointBodies) {
+      batch.lax[lane] = batch.lay[lane] = batch.laz[lane] = 0.0;
+      batch.lbx[lane] = batch.lby[lane] = batch.lbz[lane] = 0.0;
+    }
+    if (one_material_ >= 0) {
+      const PairParameters& pp = materials_.pair(one_material_, one_material_);
+      batch.kn[lane] = pp.normal_stiffness, batch.ks[lane] = pp.shear_stiffness;
+      batch.mu[lane] = pp.friction, batch.mu_r[lane] = pp.rolling_friction;
+    }
+    if (!any_rolling_) batch.mx[lane] = batch.my[lane] = batch.mz[lane] = 0.0;
+  }
 }
 
 template <bool kPointBodies>
@@ -575,25 +596,32 @@ void Simulation::load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d
   batch.vbx[lane] = vb.x(), batch.vby[lane] = vb.y(), batch.vbz[lane] = vb.z();
   batch.wax[lane] = wa.x(), batch.way[lane] = wa.y(), batch.waz[lane] = wa.z();
   batch.wbx[lane] = wb.x(), batch.wby[lane] = wb.y(), batch.wbz[lane] = wb.z();
-  const Vec3 la = kPointBodies ? Vec3::Zero() : Vec3(elements_.position[i] - bodies_.position[bi]);
-  const Vec3 lb = kPointBodies ? Vec3::Zero() : Vec3(elements_.position[j] - bodies_.position[bj]);
-  batch.lax[lane] = la.x(), batch.lay[lane] = la.y(), batch.laz[lane] = la.z();
-  batch.lbx[lane] = lb.x(), batch.lby[lane] = lb.y(), batch.lbz[lane] = lb.z();
-  const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
-  batch.kn[lane] = pp.normal_stiffness, batch.ks[lane] = pp.shear_stiffness;
-  batch.mu[lane] = pp.friction, batch.mu_r[lane] = pp.rolling_friction;
+  if constexpr (!kPointBodies) {  // spheres: zero levers, set once by prefill_batch
+    const Vec3 la = elements_.position[i] - bodies_.position[bi];
+    const Vec3 lb = elements_.position[j] - bodies_.position[bj];
+    batch.lax[lane] = la.x(), batch.lay[lane] = la.y(), batch.laz[lane] = la.z();
+    batch.lbx[lane] = lb.x(), batch.lby[lane] = lb.y(), batch.lbz[lane] = lb.z();
+  }
+  if (one_material_ < 0) {  // else set once by prefill_batch
+    const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
+    batch.kn[lane] = pp.normal_stiffness, batch.ks[lane] = pp.shear_stiffness;
+    batch.mu[lane] = pp.friction, batch.mu_r[lane] = pp.rolling_friction;
+  }
   batch.cn[lane] = pair_dashpot_[p];
-  const ContactHistory& h = pair_history_[p];
+  const PairSpring& h = pair_spring_[p];
   batch.sx[lane] = h.shear_force.x(), batch.sy[lane] = h.shear_force.y(), batch.sz[lane] = h.shear_force.z();
-  batch.mx[lane] = h.rolling_moment.x(), batch.my[lane] = h.rolling_moment.y(), batch.mz[lane] = h.rolling_moment.z();
+  if (any_rolling_) {  // else zero, set once by prefill_batch (and the pair's stays zero)
+    const Vec3& m = pair_rolling_[p];
+    batch.mx[lane] = m.x(), batch.my[lane] = m.y(), batch.mz[lane] = m.z();
+  }
   batch.damping_force[lane] = h.damping_force;
 }
 
 void Simulation::store_springs(const ContactBatch& batch, int lane, Index p) {
-  ContactHistory& h = pair_history_[p];
+  PairSpring& h = pair_spring_[p];
   h.shear_force = Vec3(batch.sx[lane], batch.sy[lane], batch.sz[lane]);
-  h.rolling_moment = Vec3(batch.mx[lane], batch.my[lane], batch.mz[lane]);
   h.damping_force = batch.damping_force[lane];
+  if (any_rolling_) pair_rolling_[p] = Vec3(batch.mx[lane], batch.my[lane], batch.mz[lane]);
 }
 
 // Pair forces, summed into the elements in increasing pair order whatever the thread count:
@@ -647,6 +675,7 @@ void Simulation::evaluate_pairs_of() {
     // Energy is summed per row (the first element), in pair order, then over elements in
     // chunk order: the same sums on any thread count.
     ContactBatch batch;
+    prefill_batch<kPointBodies>(batch);
     Index lane_pair[kContactBatch];
     const double max_overlap = settings_.guards.max_overlap_fraction;
     auto too_deep = [&](int lane) {
@@ -654,13 +683,13 @@ void Simulation::evaluate_pairs_of() {
     };
     // Adds pair p to the batch if it touches (and marks it active). An active pair that has
     // opened is left to the caller to release.
-    auto load_if_touching = [&](Index p) {
+    auto load_if_touching = [&](Index p) __attribute__((always_inline)) {
       const Vec3 d = separation(p, length);
       const double d2 = d.squaredNorm();
       if (!overlapping(p, d2)) return false;
-      pair_active_[p] = 1;
       load_lane<kPointBodies>(batch, batch.size, p, d, d2);
       lane_pair[batch.size++] = p;
+      pair_active_[p] = 1;  // after the loads: a byte store may alias them all
       return true;
     };
     // Phase A: the pairs whose second element lies in a later block, computed and stored. The
@@ -720,7 +749,7 @@ void Simulation::evaluate_pairs_of() {
         if (batch.size == kContactBatch) break;  // this pair starts the next batch
         if (k1 + kPairPrefetchDistance < n_work) {  // see gather_and_kick's wall prefetch
           const Index ahead = work[k1 + kPairPrefetchDistance];
-          __builtin_prefetch(&pair_history_[ahead]);
+          __builtin_prefetch(&pair_spring_[ahead]);
           const Index body = kPointBodies ? pairs_.second[ahead] : elements_.body[pairs_.second[ahead]];
           __builtin_prefetch(&bodies_.velocity[body]);
           __builtin_prefetch(&bodies_.angular_velocity[body]);
@@ -1032,9 +1061,9 @@ EnergyReport Simulation::energy() const {
     const double rbar = elements_.radius[i] * elements_.radius[j] /
                         (elements_.radius[i] + elements_.radius[j]);
     r.elastic += 0.5 * pp.normal_stiffness * std::max(0.0, overlap) * std::max(0.0, overlap);
-    r.elastic += pair_history_[p].shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+    r.elastic += pair_spring_[p].shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
     if (pp.rolling_friction > 0.0)
-      r.elastic += pair_history_[p].rolling_moment.squaredNorm() /
+      r.elastic += pair_rolling_[p].squaredNorm() /
                    (2.0 * pp.shear_stiffness * rbar * rbar);
   }
   const std::size_t nw = walls_.size();
@@ -1096,8 +1125,17 @@ Vec3 Simulation::contact_force(Index p, const Vec3& d) const {
   const double r = d.norm();
   const double overlap = elements_.radius[i] + elements_.radius[j] - r;
   const double kn = materials_.pair(elements_.material[i], elements_.material[j]).normal_stiffness;
-  const ContactHistory& h = pair_history_[p];
+  const PairSpring& h = pair_spring_[p];
   return (kn * overlap - h.damping_force) * (d / r) + h.shear_force;
+}
+
+ContactHistory Simulation::pair_history(Index p) const {
+  return ContactHistory{pair_spring_[p].shear_force, pair_rolling_[p], pair_spring_[p].damping_force};
+}
+
+void Simulation::set_pair_history(Index p, const ContactHistory& h) {
+  pair_spring_[p] = PairSpring{h.shear_force, h.damping_force};
+  pair_rolling_[p] = h.rolling_moment;
 }
 
 double Simulation::unbalanced_force_ratio() const {

@@ -199,7 +199,17 @@ class Simulation {
   std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
 
   PairList pairs_;
-  std::vector<ContactHistory> pair_history_;
+  // A pair's springs (ContactHistory) in two arrays: the tangential spring and the dashpot's
+  // last force, which every contact reads and writes each step, packed in 32 bytes; and the
+  // rolling spring apart, so that a run without rolling resistance never loads it.
+  struct alignas(32) PairSpring {
+    Vec3 shear_force = Vec3::Zero();
+    double damping_force = 0.0;
+  };
+  std::vector<PairSpring> pair_spring_;
+  std::vector<Vec3> pair_rolling_;
+  ContactHistory pair_history(Index p) const;
+  void set_pair_history(Index p, const ContactHistory& h);
   // Pairs that cross two threads' blocks are stored before they are summed.
   std::vector<Vec3> pair_force_;         // on second (stored pairs only; contact_force for any)
   std::vector<Vec3> pair_torque_first_;  // about the first element's centre
@@ -211,8 +221,13 @@ class Simulation {
   std::vector<double> row_damping_, row_friction_;    // energy of each element's row, J
   bool all_point_bodies_ = false;                      // spheres only: no body indirection
   bool any_rolling_ = false;                           // some material pair has mu_r > 0
+  int one_material_ = -1;                              // the material of every element, or -1
   // Pair p, which touches (|d|^2 = d2 < reach^2), into lane `lane` of the batch, and its
   // updated springs back from it (dem/contact_batch.hpp).
+  // The lanes every pair of this run shares (zero levers of spheres, one material's
+  // parameters, zero rolling springs), set once so that load_lane can skip them.
+  template <bool kPointBodies>
+  void prefill_batch(ContactBatch& batch) const;
   template <bool kPointBodies>
   [[gnu::always_inline]] inline void load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d, double d2) const;
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
