@@ -469,9 +469,12 @@ void Simulation::rebuild() {
   // The dashpot of each pair: fixed by the two bodies' masses, so computed once per build
   // rather than (a square root and a division) per contact and step.
   pair_dashpot_.resize(n);
+  pair_reach2_.resize(n);
 #pragma omp parallel for schedule(static) if (n > kChunkSize)
   for (Index p = 0; p < n; ++p) {
     const Index i = pairs_.first[p], j = pairs_.second[p];
+    const double reach = elements_.radius[i] + elements_.radius[j];
+    pair_reach2_[p] = reach * reach;
     const double mi = bodies_.mass[elements_.body[i]], mj = bodies_.mass[elements_.body[j]];
     const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
     pair_dashpot_[p] = damping_coefficient(pp.damping_ratio, mi * mj / (mi + mj), pp.normal_stiffness);
@@ -822,6 +825,16 @@ void Simulation::evaluate_pairs_of() {
 }
 
 void Simulation::gather_and_kick() {
+  if (all_point_bodies_)
+    gather_and_kick_of<true>();
+  else
+    gather_and_kick_of<false>();
+}
+
+// kPointBodies: every body is a sphere, element b is body b at its centre (no lever torque),
+// and the pair loop summed straight into the bodies' force and torque.
+template <bool kPointBodies>
+void Simulation::gather_and_kick_of() {
   constexpr Index kWallPrefetchDistance = 16;  // elements
   const Index nb = bodies_.size();
   const Index ne = elements_.size();
@@ -862,7 +875,7 @@ void Simulation::gather_and_kick() {
             if (wall_active_[ahead * nw + w]) __builtin_prefetch(&wall_history_[ahead * nw + w]);
         // The pair sums (see evaluate_pairs_of), zeroed as read: the next evaluate_pairs sums from zero.
         Vec3 fe, te;
-        if (all_point_bodies_) {
+        if (kPointBodies) {
           fe = bodies_.force[b];
           te = bodies_.torque[b];
         } else {
@@ -958,7 +971,7 @@ void Simulation::gather_and_kick() {
           acc.wall_work += out.force.dot(growth) * dt;
         }
         force += fe;
-        torque += te + (xe - xb).cross(fe);
+        torque += kPointBodies ? te : Vec3(te + (xe - xb).cross(fe));
       }
       // PFC local damping: each component of force and moment loses alpha |F| against the
       // motion.
@@ -976,9 +989,16 @@ void Simulation::gather_and_kick() {
       }
       bodies_.force[b] = force;
       bodies_.torque[b] = torque;
-      if (kick_now) kick(b, force, torque, half);
-      if (acc.bad_body < 0 && !finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
-        acc.bad_body = b;
+      if (kick_now && kPointBodies) {  // kick() without its test of the body's kind
+        bodies_.velocity[b] += (half / mass) * force;
+        bodies_.angular_velocity[b] += half * torque.cwiseQuotient(bodies_.inertia[b]);
+      } else if (kick_now) {
+        kick(b, force, torque, half);
+      }
+      // The state was finite at the drift (drift_and_kick checked it): the kick keeps it so
+      // unless the force or torque is not finite, which is the cheaper test (it does not wait
+      // for the kick's divisions).
+      if (acc.bad_body < 0 && !finite_state(force, torque, Vec3::Zero())) acc.bad_body = b;
     }
     body_chunk_energy_[c] = acc;
   }

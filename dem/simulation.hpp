@@ -175,6 +175,8 @@ class Simulation {
   double release_pair(Index p, const Vec3& separation);
   void evaluate_pairs();
   void gather_and_kick();
+  template <bool kPointBodies>
+  void gather_and_kick_of();
   void check_stability();
   void check_boxes_clear_periodic_faces() const;
   void apply_initial_springs();
@@ -216,6 +218,7 @@ class Simulation {
   std::vector<Vec3> pair_torque_second_;
   std::vector<std::uint8_t> pair_active_;
   std::vector<double> pair_dashpot_;     // cn of each pair, N s/m (set by rebuild)
+  std::vector<double> pair_reach2_;      // (ri + rj)^2 of each pair, m^2 (set by rebuild)
   std::vector<Vec3> element_force_, element_torque_;  // pair contacts summed per element
   std::vector<double> pair_damping_, pair_friction_;  // energy of stored pairs this step, J
   std::vector<double> row_damping_, row_friction_;    // energy of each element's row, J
@@ -244,8 +247,7 @@ class Simulation {
   // Pair p's elements overlap at squared separation d2 (the one test of touching, so that the
   // pair loop's filter, its batch loading and the release of opened contacts agree to the bit).
   [[gnu::always_inline]] inline bool overlapping(Index p, double d2) const {
-    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
-    return !(d2 >= reach * reach);  // a NaN is not "apart": the finiteness guards name its body
+    return !(d2 >= pair_reach2_[p]);  // a NaN is not "apart": the finiteness guards name its body
   }
   bool any_periodic_ = false;
   std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
