@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "mfdem_revision.hpp"  // generated at build time: MFDEM_GIT_REVISION
+
 namespace mfdem::cli {
 
 std::string version() { return MFDEM_VERSION; }
