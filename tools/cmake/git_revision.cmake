@@ -1,3 +1,4 @@
+cmake_minimum_required(VERSION 3.20)  # policies for script mode
 # Writes OUTPUT with the git revision of SOURCE_DIR as a C++ macro, at every build: a revision
 # read when CMake configures goes stale with each commit built incrementally. configure_file
 # rewrites OUTPUT only when the text changes, so an unchanged revision recompiles nothing.
