@@ -640,12 +640,29 @@ void Simulation::evaluate_pairs() {
     evaluate_pairs_of<false>();
 }
 
+// The first body of thread t's block (of nt) in the pair loop: the blocks hold equal shares of
+// the neighbour list rather than of the bodies, since the bottom of a bed has more neighbours
+// per body than its surface. The result does not depend on where the blocks end.
+Index Simulation::pair_block_start(int t, int nt) const {
+  const Index nb = bodies_.size();
+  if (t >= nt) return nb;
+  const auto target = static_cast<Index>(static_cast<long long>(pairs_.size()) * t / nt);
+  Index lo = 0, hi = nb;  // the first body whose rows start at or after the target
+  while (lo < hi) {
+    const Index mid = lo + (hi - lo) / 2;
+    if (pairs_.row_start[bodies_.element_begin(mid)] < target)
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo;
+}
+
 template <bool kPointBodies>
 void Simulation::evaluate_pairs_of() {
   constexpr Index kPairPrefetchDistance = 16;  // work-list entries
   const Index np = pairs_.size();
   const Index ne = elements_.size();
-  const Index nb = bodies_.size();
   const int blocks = np > kChunkSize ? omp_get_max_threads() : 1;
   if (static_cast<int>(pair_work_.size()) < blocks) pair_work_.resize(blocks);
   // The sums start from zero: gather_and_kick and the energy loop below zero them as they read
@@ -671,8 +688,7 @@ void Simulation::evaluate_pairs_of() {
 #pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    const Index b0 = static_cast<Index>(static_cast<long long>(nb) * t / nt);
-    const Index b1 = static_cast<Index>(static_cast<long long>(nb) * (t + 1) / nt);
+    const Index b0 = pair_block_start(t, nt), b1 = pair_block_start(t + 1, nt);
     const Index e0 = bodies_.element_begin(b0), e1 = bodies_.element_begin(b1);
     const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
     // Energy is summed per row (the first element), in pair order, then over elements in

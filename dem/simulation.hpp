@@ -236,6 +236,7 @@ class Simulation {
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
   template <bool kPointBodies>
   void evaluate_pairs_of();
+  Index pair_block_start(int t, int nt) const;
   Vec3 contact_force(Index p, const Vec3& d) const;  // of an active pair at separation d, on its second element
   // Vector from pair p's first element to its second (periodic image included).
   [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
