@@ -1005,16 +1005,11 @@ void Simulation::gather_and_kick_of() {
       }
       bodies_.force[b] = force;
       bodies_.torque[b] = torque;
-      if (kick_now && kPointBodies) {  // kick() without its test of the body's kind
-        bodies_.velocity[b] += (half / mass) * force;
-        bodies_.angular_velocity[b] += half * torque.cwiseQuotient(bodies_.inertia[b]);
-      } else if (kick_now) {
-        kick(b, force, torque, half);
-      }
+      if (kick_now) kick(b, force, torque, half);
       // The state was finite at the drift (drift_and_kick checked it): the kick keeps it so
       // unless the force or torque is not finite, which is the cheaper test (it does not wait
       // for the kick's divisions).
-      if (acc.bad_body < 0 && !finite_state(force, torque, Vec3::Zero())) acc.bad_body = b;
+      if (acc.bad_body < 0 && !std::isfinite((force + torque).sum())) acc.bad_body = b;
     }
     body_chunk_energy_[c] = acc;
   }
