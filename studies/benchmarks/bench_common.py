@@ -138,6 +138,10 @@ def parallel_notes(threads: list[int]) -> list[str]:
     notes = []
     if max(threads) > 1 and mpirun() is None:
         notes.append("mpirun not found: LAMMPS and LIGGGHTS ran as 1 process only.")
+    if max(threads) > 1:
+        notes.append("With more than one thread, mfdem's threads are pinned one per core "
+                     "(OMP_PROC_BIND=spread, OMP_PLACES=cores), as Open MPI binds the peers' "
+                     "ranks to cores when there are at most two.")
     if max(threads) > max_ranks():
         notes.append(f"more threads/ranks requested than the {max_ranks()} logical CPUs.")
     return notes
@@ -223,6 +227,11 @@ def mfdem_env(threads: int) -> dict:
     env["OMP_NUM_THREADS"] = str(threads)
     # An idle machine: spinning waits are fastest (mfdem defaults to passive for shared machines).
     env.setdefault("OMP_WAIT_POLICY", "active")
+    if threads > 1:
+        # One thread per core, pinned: as Open MPI pins the peers' ranks (it binds to cores
+        # when there are at most two ranks), so that neither side is moved between cores.
+        env.setdefault("OMP_PROC_BIND", "spread")
+        env.setdefault("OMP_PLACES", "cores")
     return env
 
 
