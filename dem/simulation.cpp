@@ -641,8 +641,8 @@ void Simulation::evaluate_pairs() {
 }
 
 // The first body of thread t's block (of nt) in the pair loop: the blocks hold equal shares of
-// the neighbour list rather than of the bodies, since the bottom of a bed has more neighbours
-// per body than its surface. The result does not depend on where the blocks end.
+// the neighbour list, the loop's work, rather than of the bodies (a bed's surface or a sparse
+// region has fewer neighbours per body). The result does not depend on where the blocks end.
 Index Simulation::pair_block_start(int t, int nt) const {
   const Index nb = bodies_.size();
   if (t >= nt) return nb;
