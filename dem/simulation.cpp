@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <ranges>
 #include <stdexcept>
 
 #include "dem/chunked.hpp"
@@ -568,15 +569,15 @@ double Simulation::release_pair(Index p, const Vec3& d) {
 
 template <bool kPointBodies>
 void Simulation::prefill_batch(ContactBatch& batch) const {
+  const PairParameters* const pp = one_material_ >= 0 ? &materials_.pair(one_material_, one_material_) : nullptr;
   for (int lane = 0; lane < kContactBatch; ++lane) {
     if (kPointBodies) {
       batch.lax[lane] = batch.lay[lane] = batch.laz[lane] = 0.0;
       batch.lbx[lane] = batch.lby[lane] = batch.lbz[lane] = 0.0;
     }
-    if (one_material_ >= 0) {
-      const PairParameters& pp = materials_.pair(one_material_, one_material_);
-      batch.kn[lane] = pp.normal_stiffness, batch.ks[lane] = pp.shear_stiffness;
-      batch.mu[lane] = pp.friction, batch.mu_r[lane] = pp.rolling_friction;
+    if (pp) {
+      batch.kn[lane] = pp->normal_stiffness, batch.ks[lane] = pp->shear_stiffness;
+      batch.mu[lane] = pp->friction, batch.mu_r[lane] = pp->rolling_friction;
     }
     if (!any_rolling_) batch.mx[lane] = batch.my[lane] = batch.mz[lane] = 0.0;
   }
@@ -647,15 +648,10 @@ Index Simulation::pair_block_start(int t, int nt) const {
   const Index nb = bodies_.size();
   if (t >= nt) return nb;
   const auto target = static_cast<Index>(static_cast<long long>(pairs_.size()) * t / nt);
-  Index lo = 0, hi = nb;  // the first body whose rows start at or after the target
-  while (lo < hi) {
-    const Index mid = lo + (hi - lo) / 2;
-    if (pairs_.row_start[bodies_.element_begin(mid)] < target)
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  return lo;
+  // The first body whose rows start at or after the target.
+  return *std::ranges::partition_point(std::views::iota(Index{0}, nb), [&](Index b) {
+    return pairs_.row_start[bodies_.element_begin(b)] < target;
+  });
 }
 
 template <bool kPointBodies>

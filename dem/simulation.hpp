@@ -225,12 +225,12 @@ class Simulation {
   bool all_point_bodies_ = false;                      // spheres only: no body indirection
   bool any_rolling_ = false;                           // some material pair has mu_r > 0
   int one_material_ = -1;                              // the material of every element, or -1
-  // Pair p, which touches (|d|^2 = d2 < reach^2), into lane `lane` of the batch, and its
-  // updated springs back from it (dem/contact_batch.hpp).
   // The lanes every pair of this run shares (zero levers of spheres, one material's
   // parameters, zero rolling springs), set once so that load_lane can skip them.
   template <bool kPointBodies>
   void prefill_batch(ContactBatch& batch) const;
+  // Pair p, which touches (|d|^2 = d2 < reach^2), into lane `lane` of the batch, and its
+  // updated springs back from it (dem/contact_batch.hpp).
   template <bool kPointBodies>
   [[gnu::always_inline]] inline void load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d, double d2) const;
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
