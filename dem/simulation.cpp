@@ -461,6 +461,7 @@ void Simulation::rebuild() {
     }
   }
   pairs_ = std::move(fresh);
+  pair_blocks_.threads = 0;  // to be planned for the new list
   pair_spring_ = std::move(springs);
   pair_rolling_ = std::move(rolling);
   pair_force_.assign(n, Vec3::Zero());
@@ -654,6 +655,31 @@ Index Simulation::pair_block_start(int t, int nt) const {
   });
 }
 
+// Where each thread's block starts, the pairs that cross blocks (phase A of evaluate_pairs_of)
+// and the ones each block takes from earlier blocks: fixed between two builds.
+void Simulation::plan_pair_blocks(int threads) {
+  PairBlocks& plan = pair_blocks_;
+  plan.threads = threads;
+  plan.body_start.resize(threads + 1);
+  for (int t = 0; t <= threads; ++t) plan.body_start[t] = pair_block_start(t, threads);
+  plan.crossing.clear();
+  plan.taken.clear();
+  plan.taken_start.assign(1, 0);
+  for (int t = 0; t < threads; ++t) {
+    const Index e0 = bodies_.element_begin(plan.body_start[t]);
+    const Index e1 = bodies_.element_begin(plan.body_start[t + 1]);
+    const Index p0 = pairs_.row_start[e0];
+    for (Index p = p0; p < pairs_.row_start[e1]; ++p)
+      if (pairs_.second[p] >= e1) plan.crossing.push_back(p);
+    for (Index e = e0; e < e1; ++e)
+      for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
+        if (pairs_.as_second_pair[k] >= p0) break;  // as_second lists are in pair order
+        plan.taken.push_back(pairs_.as_second_pair[k]);
+      }
+    plan.taken_start.push_back(static_cast<Index>(plan.taken.size()));
+  }
+}
+
 template <bool kPointBodies>
 void Simulation::evaluate_pairs_of() {
   constexpr Index kPairPrefetchDistance = 16;  // work-list entries
@@ -684,7 +710,15 @@ void Simulation::evaluate_pairs_of() {
 #pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    const Index b0 = pair_block_start(t, nt), b1 = pair_block_start(t + 1, nt);
+    // A region may get fewer threads than asked for (nested in another one). Every thread reads
+    // the plan's count before any can pass the barrier to the re-plan: all take the same branch.
+    if (pair_blocks_.threads != nt) {
+#pragma omp barrier
+#pragma omp single
+      plan_pair_blocks(nt);
+    }
+    const PairBlocks& plan = pair_blocks_;
+    const Index b0 = plan.body_start[t], b1 = plan.body_start[t + 1];
     const Index e0 = bodies_.element_begin(b0), e1 = bodies_.element_begin(b1);
     const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
     // Energy is summed per row (the first element), in pair order, then over elements in
@@ -707,9 +741,8 @@ void Simulation::evaluate_pairs_of() {
       pair_active_[p] = 1;  // after the loads: a byte store may alias them all
       return true;
     };
-    // Phase A: the pairs whose second element lies in a later block, computed and stored. The
-    // last block has no later block to store pairs for, and the first no earlier one to take
-    // stored pairs from (phase B): on one thread both are skipped.
+    // Phase A: the pairs whose second element lies in a later block, computed and stored, an
+    // equal share of them by each thread. On one thread there are none.
     auto store_batch = [&]() {
       compute_contacts(batch, dt, any_rolling_);
       for (int k = 0; k < batch.size; ++k) {
@@ -724,8 +757,9 @@ void Simulation::evaluate_pairs_of() {
       }
       batch.size = 0;
     };
-    for (Index p = p0; p < (t + 1 < nt ? p1 : p0); ++p) {
-      if (pairs_.second[p] < e1) continue;
+    const auto crossing = static_cast<Index>(plan.crossing.size());
+    for (Index k = crossing * t / nt; k < crossing * (t + 1) / nt; ++k) {
+      const Index p = plan.crossing[k];
       if (batch.size == kContactBatch) store_batch();
       if (load_if_touching(p)) continue;
       pair_damping_[p] = 0.0;
@@ -733,14 +767,13 @@ void Simulation::evaluate_pairs_of() {
     }
     if (batch.size > 0) store_batch();
 #pragma omp barrier
-    for (Index e = e0; e < (t > 0 ? e1 : e0); ++e) {  // phase B: stored pairs of earlier blocks
-      for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) {
-        const Index p = pairs_.as_second_pair[k];
-        if (p >= p0) break;
-        if (!pair_active_[p]) continue;
-        force_sum[e] += pair_force_[p];
-        torque_sum[e] += pair_torque_second_[p];
-      }
+    // Phase B: the stored pairs of earlier blocks, each element's in pair order.
+    for (Index k = plan.taken_start[t]; k < plan.taken_start[t + 1]; ++k) {
+      const Index p = plan.taken[k];
+      if (!pair_active_[p]) continue;
+      const Index e = pairs_.second[p];
+      force_sum[e] += pair_force_[p];
+      torque_sum[e] += pair_torque_second_[p];
     }
     // Phase B visits only the pairs that do something: stored ones, touching ones, and active
     // ones that open now. The rest (a third or more of a Verlet list) add nothing, and sorting

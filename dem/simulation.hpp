@@ -237,6 +237,16 @@ class Simulation {
   template <bool kPointBodies>
   void evaluate_pairs_of();
   Index pair_block_start(int t, int nt) const;
+  // The pair loop's split among threads, planned at the first step after each build.
+  struct PairBlocks {
+    int threads = 0;                 // 0: not planned for the current list
+    std::vector<Index> body_start;   // block t: bodies [body_start[t], body_start[t + 1])
+    std::vector<Index> crossing;     // pairs whose second element lies in a later block
+    std::vector<Index> taken_start;  // block t takes taken[taken_start[t] .. taken_start[t + 1])
+    std::vector<Index> taken;        // crossing pairs by the second element (in block order), then pair
+  };
+  PairBlocks pair_blocks_;
+  void plan_pair_blocks(int threads);
   Vec3 contact_force(Index p, const Vec3& d) const;  // of an active pair at separation d, on its second element
   // Vector from pair p's first element to its second (periodic image included).
   [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
