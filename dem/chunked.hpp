@@ -10,7 +10,7 @@
 
 namespace mfdem::dem {
 
-inline constexpr Index kChunkSize = 1024;
+inline constexpr Index kChunkSize = 256;
 
 inline Index chunk_count(Index n) { return (n + kChunkSize - 1) / kChunkSize; }
 inline Index chunk_begin(Index chunk) { return chunk * kChunkSize; }

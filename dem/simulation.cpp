@@ -352,6 +352,7 @@ void Simulation::step() {
   time_ += dt_;
   ++step_count_;
   for (auto& w : walls_) w.point += dt_ * w.velocity;
+  if (step_count_ % kBalanceInterval == 0) balance_blocks();
   if (step_count_ % settings_.guards.check_interval == 0) check_stability();
 }
 
@@ -360,9 +361,10 @@ void Simulation::drift_and_kick() {
   const double half = 0.5 * dt_;
   double max_move2 = 0.0;
   Index first_bad = nb;
-#pragma omp parallel for schedule(static) reduction(max : max_move2) reduction(min : first_bad) \
-    if (nb > kChunkSize)
-  for (Index b = 0; b < nb; ++b) {
+  const int team = team_size();
+  // Each thread drifts the bodies it sums the pair forces of (thread_bodies).
+#pragma omp parallel num_threads(team) if (team > 1) reduction(max : max_move2) reduction(min : first_bad)
+  for (auto [b, end] = thread_bodies(); b < end; ++b) {
     if (!finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
       first_bad = std::min(first_bad, b);
     if (point_body_[b]) {
@@ -642,26 +644,92 @@ void Simulation::evaluate_pairs() {
     evaluate_pairs_of<false>();
 }
 
-// The first body of thread t's block (of nt) in the pair loop: the blocks hold equal shares of
-// the neighbour list, the loop's work, rather than of the bodies (a bed's surface or a sparse
-// region has fewer neighbours per body). The result does not depend on where the blocks end.
-Index Simulation::pair_block_start(int t, int nt) const {
+// The first body of thread t's block: the blocks split the neighbour list, the pair loop's work,
+// at the shares balance_blocks measured (equal shares at first), rather than the bodies (a bed's
+// surface or a sparse region has fewer neighbours per body), and start at a chunk so that
+// gather_and_kick's chunk sums can follow the same split. The result does not depend on where
+// the blocks end.
+Index Simulation::pair_block_start(int t) const {
   const Index nb = bodies_.size();
-  if (t >= nt) return nb;
-  const auto target = static_cast<Index>(static_cast<long long>(pairs_.size()) * t / nt);
-  // The first body whose rows start at or after the target.
-  return *std::ranges::partition_point(std::views::iota(Index{0}, nb), [&](Index b) {
+  if (t + 1 >= static_cast<int>(pair_blocks_.share.size())) return nb;
+  const auto target = static_cast<Index>(static_cast<double>(pairs_.size()) * pair_blocks_.share[t]);
+  // The first body whose rows start at or after the target, to the nearest chunk.
+  const Index b = *std::ranges::partition_point(std::views::iota(Index{0}, nb), [&](Index b) {
     return pairs_.row_start[bodies_.element_begin(b)] < target;
   });
+  return std::min(nb, chunk_begin((b + kChunkSize / 2) / kChunkSize));
+}
+
+int Simulation::team_size() const {
+  return bodies_.size() > kChunkSize ? omp_get_max_threads() : 1;
+}
+
+// Called by every thread of a team (in a parallel region of team_size() threads, or fewer when
+// nested): the blocks planned for this team size. Every thread reads the plan's count before any
+// can pass the barrier to the re-plan, so all take the same branch.
+const Simulation::PairBlocks& Simulation::team_plan() {
+  const int nt = omp_get_num_threads();
+  if (pair_blocks_.threads != nt) {
+#pragma omp barrier
+#pragma omp single
+    plan_pair_blocks(nt);
+  }
+  return pair_blocks_;
+}
+
+std::pair<Index, Index> Simulation::thread_bodies() {
+  const PairBlocks& plan = team_plan();
+  const int t = omp_get_thread_num();
+  return {plan.body_start[t], plan.body_start[t + 1]};
+}
+
+std::pair<Index, Index> Simulation::thread_chunks() {
+  const auto [first, end] = thread_bodies();
+  return {first / kChunkSize, chunk_count(end)};  // blocks start at chunks
+}
+
+// Moves the block boundaries towards equal measured pair-loop time per thread (as LAMMPS's
+// fix balance does by time): a block's share of the neighbour list is scaled by how much faster
+// than the average its thread was. Only the split moves, never a result.
+void Simulation::balance_blocks() {
+  PairBlocks& plan = pair_blocks_;
+  const int nt = plan.threads;
+  if (nt < 2) return;
+  double total = 0.0;
+  for (int t = 0; t < nt; ++t) total += plan.busy[t].seconds;
+  if (!(total > 0.0)) return;
+  std::vector<double> share(nt + 1, 0.0);
+  for (int t = 0; t < nt; ++t) {
+    const double width = plan.share[t + 1] - plan.share[t];
+    const double rate = plan.busy[t].seconds / total * nt;  // 1: the average thread
+    // Half way to the share that would have taken the average time, as the costs are noisy.
+    share[t + 1] = share[t] + width * (0.5 + 0.5 / std::max(rate, 0.25));
+  }
+  for (int t = 1; t < nt; ++t) share[t] /= share[nt];
+  share[nt] = 1.0;
+  for (auto& b : plan.busy) b.seconds = 0.0;
+  const std::vector<double> old = plan.share;
+  plan.share = share;
+  bool moved = false;
+  for (int t = 1; t < nt; ++t) moved = moved || pair_block_start(t) != plan.body_start[t];
+  if (moved)
+    plan.threads = 0;  // re-planned at the next step's drift
+  else
+    plan.share = old;  // the same blocks: the shares stay those of the blocks measured
 }
 
 // Where each thread's block starts, the pairs that cross blocks (phase A of evaluate_pairs_of)
 // and the ones each block takes from earlier blocks: fixed between two builds.
 void Simulation::plan_pair_blocks(int threads) {
   PairBlocks& plan = pair_blocks_;
+  if (static_cast<int>(plan.share.size()) != threads + 1) {
+    plan.share.resize(threads + 1);
+    for (int t = 0; t <= threads; ++t) plan.share[t] = static_cast<double>(t) / threads;
+  }
+  plan.busy.assign(threads, {});
   plan.threads = threads;
   plan.body_start.resize(threads + 1);
-  for (int t = 0; t <= threads; ++t) plan.body_start[t] = pair_block_start(t, threads);
+  for (int t = 0; t <= threads; ++t) plan.body_start[t] = pair_block_start(t);
   plan.crossing.clear();
   plan.taken.clear();
   plan.taken_start.assign(1, 0);
@@ -685,7 +753,7 @@ void Simulation::evaluate_pairs_of() {
   constexpr Index kPairPrefetchDistance = 16;  // work-list entries
   const Index np = pairs_.size();
   const Index ne = elements_.size();
-  const int blocks = np > kChunkSize ? omp_get_max_threads() : 1;
+  const int blocks = team_size();
   if (static_cast<int>(pair_work_.size()) < blocks) pair_work_.resize(blocks);
   // The sums start from zero: gather_and_kick and the energy loop below zero them as they read
   // them, which spares a pass over the elements.
@@ -710,14 +778,9 @@ void Simulation::evaluate_pairs_of() {
 #pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
   {
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
-    // A region may get fewer threads than asked for (nested in another one). Every thread reads
-    // the plan's count before any can pass the barrier to the re-plan: all take the same branch.
-    if (pair_blocks_.threads != nt) {
-#pragma omp barrier
-#pragma omp single
-      plan_pair_blocks(nt);
-    }
-    const PairBlocks& plan = pair_blocks_;
+    const PairBlocks& plan = team_plan();
+    const double start = nt > 1 ? omp_get_wtime() : 0.0;
+    double waited = 0.0;  // at the barrier between the phases
     const Index b0 = plan.body_start[t], b1 = plan.body_start[t + 1];
     const Index e0 = bodies_.element_begin(b0), e1 = bodies_.element_begin(b1);
     const Index p0 = pairs_.row_start[e0], p1 = pairs_.row_start[e1];
@@ -766,7 +829,9 @@ void Simulation::evaluate_pairs_of() {
       pair_friction_[p] = pair_active_[p] ? release_pair(p, separation(p, length)) : 0.0;
     }
     if (batch.size > 0) store_batch();
+    const double arrived = nt > 1 ? omp_get_wtime() : 0.0;
 #pragma omp barrier
+    if (nt > 1) waited = omp_get_wtime() - arrived;
     // Phase B: the stored pairs of earlier blocks, each element's in pair order.
     for (Index k = plan.taken_start[t]; k < plan.taken_start[t + 1]; ++k) {
       const Index p = plan.taken[k];
@@ -835,6 +900,7 @@ void Simulation::evaluate_pairs_of() {
       batch.size = 0;
       k0 = k1;
     }
+    if (nt > 1) pair_blocks_.busy[t].seconds += omp_get_wtime() - start - waited;
 #pragma omp barrier
 #pragma omp for schedule(static)
     for (Index c = 0; c < chunks; ++c) {  // energy, summed in chunk order
@@ -898,8 +964,10 @@ void Simulation::gather_and_kick_of() {
     scan_walls_ = (walls_[w].point - wall_scan_point_[w]).squaredNorm() > 0.0625 * skin_ * skin_ ||
                   walls_[w].normal != wall_scan_normal_[w];
   if (scan_walls_) scan_walls();
-#pragma omp parallel for schedule(static) if (chunks > 1)
-  for (Index c = 0; c < chunks; ++c) {
+  const int team = team_size();
+  // Each thread gathers the bodies it summed the pair forces of (thread_bodies), by chunk.
+#pragma omp parallel num_threads(team) if (team > 1)
+  for (auto [c, c_end] = thread_chunks(); c < c_end; ++c) {
     ChunkEnergy acc;
     Vec3* wall_sum = nw ? &chunk_wall_force_[c * nw] : nullptr;
     const Index end = chunk_end(c, nb);

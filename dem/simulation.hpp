@@ -236,17 +236,30 @@ class Simulation {
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
   template <bool kPointBodies>
   void evaluate_pairs_of();
-  Index pair_block_start(int t, int nt) const;
-  // The pair loop's split among threads, planned at the first step after each build.
+  // The bodies split among the threads of the step's loops (drift, pairs, gather), planned at
+  // the first loop after each build or rebalance. Where the blocks end never changes a result.
+  struct alignas(64) BusyTime {  // one cache line per thread
+    double seconds = 0.0;
+  };
   struct PairBlocks {
     int threads = 0;                 // 0: not planned for the current list
+    std::vector<double> share;       // block t starts at share[t] of the neighbour list
     std::vector<Index> body_start;   // block t: bodies [body_start[t], body_start[t + 1])
     std::vector<Index> crossing;     // pairs whose second element lies in a later block
     std::vector<Index> taken_start;  // block t takes taken[taken_start[t] .. taken_start[t + 1])
     std::vector<Index> taken;        // crossing pairs by the second element (in block order), then pair
+    std::vector<BusyTime> busy;      // per thread: pair-loop time since the last balance
   };
   PairBlocks pair_blocks_;
+  static constexpr int kBalanceInterval = 100;  // steps between balance_blocks
+  Index pair_block_start(int t) const;
   void plan_pair_blocks(int threads);
+  void balance_blocks();
+  int team_size() const;  // threads of the step's parallel regions
+  // Called by each thread of a team: the plan for this team, its bodies, its chunks of bodies.
+  const PairBlocks& team_plan();
+  std::pair<Index, Index> thread_bodies();
+  std::pair<Index, Index> thread_chunks();
   Vec3 contact_force(Index p, const Vec3& d) const;  // of an active pair at separation d, on its second element
   // Vector from pair p's first element to its second (periodic image included).
   [[gnu::always_inline]] inline Vec3 separation(Index p, const Vec3& length) const {
