@@ -198,9 +198,8 @@ void Simulation::prepare() {
   std::fill(bodies_.torque.begin(), bodies_.torque.end(), Vec3::Zero());
   rebuild();
   apply_initial_springs();
-  evaluate_pairs();
   gather_and_kick_ = false;
-  gather_and_kick();
+  evaluate_forces();
   gather_and_kick_ = true;
 
   const EnergyReport e = energy();
@@ -346,8 +345,7 @@ void Simulation::step() {
     box.half_extent += dt_ * box.growth_rate;
   }
   maybe_rebuild();
-  evaluate_pairs();
-  gather_and_kick();
+  evaluate_forces();
   kick_boxes(0.5 * dt_);
   time_ += dt_;
   ++step_count_;
@@ -637,11 +635,11 @@ void Simulation::store_springs(const ContactBatch& batch, int lane, Index p) {
 // second element lies in a later block is computed first and stored (phase A); then each thread
 // adds the stored pairs of earlier blocks to its elements and walks its rows in order (phase B).
 // One thread is the one-block case: no stored pairs at all.
-void Simulation::evaluate_pairs() {
+void Simulation::evaluate_forces() {
   if (all_point_bodies_)
-    evaluate_pairs_of<true>();
+    evaluate_forces_of<true>();
   else
-    evaluate_pairs_of<false>();
+    evaluate_forces_of<false>();
 }
 
 // The first body of thread t's block: the blocks split the neighbour list, the pair loop's work,
@@ -749,14 +747,14 @@ void Simulation::plan_pair_blocks(int threads) {
 }
 
 template <bool kPointBodies>
-void Simulation::evaluate_pairs_of() {
+void Simulation::evaluate_forces_of() {
   constexpr Index kPairPrefetchDistance = 16;  // work-list entries
   const Index np = pairs_.size();
   const Index ne = elements_.size();
   const int blocks = team_size();
   if (static_cast<int>(pair_work_.size()) < blocks) pair_work_.resize(blocks);
-  // The sums start from zero: gather_and_kick and the energy loop below zero them as they read
-  // them, which spares a pass over the elements.
+  // The sums start from zero: gather_chunk zeroes them as it reads them, which spares a pass over
+  // the elements.
   if (static_cast<Index>(element_force_.size()) != ne) {
     element_force_.assign(ne, Vec3::Zero());
     element_torque_.assign(ne, Vec3::Zero());
@@ -767,13 +765,12 @@ void Simulation::evaluate_pairs_of() {
   pair_friction_.resize(np);
   // Spheres only: element k is body k, and the pair sums go straight into the bodies' force and
   // torque (drift_and_kick zeroed them after its half kick), sparing a pass over a second pair
-  // of arrays. Clumps sum per element; gather_and_kick adds the pebbles' lever torques.
+  // of arrays. Clumps sum per element; gather_chunk adds the pebbles' lever torques.
   Vec3* const force_sum = kPointBodies ? bodies_.force.data() : element_force_.data();
   Vec3* const torque_sum = kPointBodies ? bodies_.torque.data() : element_torque_.data();
   const Vec3 length = domain_.length();
   const double dt = dt_;
-  const Index chunks = chunk_count(ne);
-  pair_chunk_energy_.assign(chunks, ChunkEnergy{});
+  prepare_gather();
   Index bad_pair = np;
 #pragma omp parallel num_threads(blocks) if (blocks > 1) reduction(min : bad_pair)
   {
@@ -900,74 +897,68 @@ void Simulation::evaluate_pairs_of() {
       batch.size = 0;
       k0 = k1;
     }
+    // The thread's bodies now have all their pair forces (no other thread sums into them, and
+    // the stored pairs were taken above): it gathers and kicks them without waiting for the
+    // others, which never read them again this step.
+    for (Index c = b0 / kChunkSize; c < chunk_count(b1); ++c) gather_chunk<kPointBodies>(c);
     if (nt > 1) pair_blocks_.busy[t].seconds += omp_get_wtime() - start - waited;
-#pragma omp barrier
-#pragma omp for schedule(static)
-    for (Index c = 0; c < chunks; ++c) {  // energy, summed in chunk order
-      ChunkEnergy acc;
-      const Index end = chunk_end(c, ne);
-      for (Index e = chunk_begin(c); e < end; ++e) {
-        acc.damping += row_damping_[e];
-        acc.friction += row_friction_[e];
-        row_damping_[e] = 0.0;
-        row_friction_[e] = 0.0;
-      }
-      pair_chunk_energy_[c] = acc;
-    }
   }
   for (const auto& acc : pair_chunk_energy_) {
     dissipated_damping_ += acc.damping;
     dissipated_friction_ += acc.friction;
   }
   if (bad_pair < np) {
-    // gather_and_kick will not run to zero the sums (see above).
-    std::fill(element_force_.begin(), element_force_.end(), Vec3::Zero());
-    std::fill(element_torque_.begin(), element_torque_.end(), Vec3::Zero());
-    if (kPointBodies) {
-      std::fill(bodies_.force.begin(), bodies_.force.end(), Vec3::Zero());
-      std::fill(bodies_.torque.begin(), bodies_.torque.end(), Vec3::Zero());
-    }
     const Index i = pairs_.first[bad_pair], j = pairs_.second[bad_pair];
     fail(fmt::format("overlap between bodies {} and {} exceeds {} of the smaller radius "
                      "(stiffness too low for the load, or time step too large)",
                      elements_.body[i], elements_.body[j], settings_.guards.max_overlap_fraction),
          elements_.body[i]);
   }
+  finish_gather();
 }
 
-void Simulation::gather_and_kick() {
-  if (all_point_bodies_)
-    gather_and_kick_of<true>();
-  else
-    gather_and_kick_of<false>();
+// The per-chunk sums of gather_chunk, sized and zeroed, and the walls rescanned when they moved.
+void Simulation::prepare_gather() {
+  const Index chunks = chunk_count(bodies_.size());
+  const std::size_t nw = walls_.size(), nx = boxes_.size();
+  pair_chunk_energy_.assign(chunks, ChunkEnergy{});
+  body_chunk_energy_.assign(chunks, ChunkEnergy{});
+  chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
+  chunk_box_face_force_.assign(chunks * nx, zero_faces());
+  for (std::size_t w = 0; w < nw && !scan_walls_; ++w)
+    scan_walls_ = (walls_[w].point - wall_scan_point_[w]).squaredNorm() > 0.0625 * skin_ * skin_ ||
+                  walls_[w].normal != wall_scan_normal_[w];
+  if (scan_walls_) scan_walls();
 }
 
+// Chunk c of the bodies once their pair forces are summed: the energy of their elements' pair
+// rows, then walls, boxes, gravity, local damping and the second half kick.
 // kPointBodies: every body is a sphere, element b is body b at its centre (no lever torque),
 // and the pair loop summed straight into the bodies' force and torque.
 template <bool kPointBodies>
-void Simulation::gather_and_kick_of() {
+void Simulation::gather_chunk(Index c) {
   constexpr Index kWallPrefetchDistance = 16;  // elements
   const Index nb = bodies_.size();
   const Index ne = elements_.size();
-  const Index chunks = chunk_count(nb);
   const std::size_t nw = walls_.size();
-  body_chunk_energy_.assign(chunks, ChunkEnergy{});
-  chunk_wall_force_.assign(chunks * nw, Vec3::Zero());
   const std::size_t nx = boxes_.size();
-  chunk_box_face_force_.assign(chunks * nx, zero_faces());
   const double dt = dt_;
   const double half = 0.5 * dt_;
   const bool kick_now = gather_and_kick_;
   const Vec3 gravity = settings_.gravity;
   const double overlap_limit = settings_.guards.max_overlap_fraction;
-  for (std::size_t w = 0; w < nw && !scan_walls_; ++w)
-    scan_walls_ = (walls_[w].point - wall_scan_point_[w]).squaredNorm() > 0.0625 * skin_ * skin_ ||
-                  walls_[w].normal != wall_scan_normal_[w];
-  if (scan_walls_) scan_walls();
-  const int team = team_size();
-  // Each thread gathers the bodies it summed the pair forces of (thread_bodies), by chunk.
-#pragma omp parallel num_threads(team) if (team > 1)
-  for (auto [c, c_end] = thread_chunks(); c < c_end; ++c) {
+  {  // the rows' energy, in element order: the same sums on any thread count
+    ChunkEnergy rows;
+    const Index end = bodies_.element_begin(chunk_end(c, nb));
+    for (Index e = bodies_.element_begin(chunk_begin(c)); e < end; ++e) {
+      rows.damping += row_damping_[e];
+      rows.friction += row_friction_[e];
+      row_damping_[e] = 0.0;
+      row_friction_[e] = 0.0;
+    }
+    pair_chunk_energy_[c] = rows;
+  }
+  {
     ChunkEnergy acc;
     Vec3* wall_sum = nw ? &chunk_wall_force_[c * nw] : nullptr;
     const Index end = chunk_end(c, nb);
@@ -1110,6 +1101,13 @@ void Simulation::gather_and_kick_of() {
     }
     body_chunk_energy_[c] = acc;
   }
+}
+
+// The chunks' wall and box forces and energies summed in chunk order, and the gather's guards.
+void Simulation::finish_gather() {
+  const Index chunks = chunk_count(bodies_.size());
+  const std::size_t nw = walls_.size(), nx = boxes_.size();
+  const double overlap_limit = settings_.guards.max_overlap_fraction;
   for (std::size_t w = 0; w < nw; ++w) {
     Vec3 sum = Vec3::Zero();
     for (Index c = 0; c < chunks; ++c) sum += chunk_wall_force_[c * nw + w];

@@ -173,10 +173,13 @@ class Simulation {
   void rebuild();
   void release_opened_contacts();
   double release_pair(Index p, const Vec3& separation);
-  void evaluate_pairs();
-  void gather_and_kick();
+  void evaluate_forces();  // pairs, walls, boxes, gravity; the second half kick
   template <bool kPointBodies>
-  void gather_and_kick_of();
+  void evaluate_forces_of();
+  void prepare_gather();
+  template <bool kPointBodies>
+  void gather_chunk(Index chunk);
+  void finish_gather();
   void check_stability();
   void check_boxes_clear_periodic_faces() const;
   void apply_initial_springs();
@@ -234,8 +237,6 @@ class Simulation {
   template <bool kPointBodies>
   [[gnu::always_inline]] inline void load_lane(ContactBatch& batch, int lane, Index p, const Vec3& d, double d2) const;
   [[gnu::always_inline]] inline void store_springs(const ContactBatch& batch, int lane, Index p);
-  template <bool kPointBodies>
-  void evaluate_pairs_of();
   // The bodies split among the threads of the step's loops (drift, pairs, gather), planned at
   // the first loop after each build or rebalance. Where the blocks end never changes a result.
   struct alignas(64) BusyTime {  // one cache line per thread
