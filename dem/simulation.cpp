@@ -360,14 +360,17 @@ void Simulation::drift_and_kick() {
   double max_move2 = 0.0;
   Index first_bad = nb;
   const int team = team_size();
-  // Each thread drifts the bodies it sums the pair forces of (thread_bodies).
+  // Each thread drifts the bodies it sums the pair forces of (thread_bodies), in one region for
+  // spheres and clumps.
 #pragma omp parallel num_threads(team) if (team > 1) reduction(max : max_move2) reduction(min : first_bad)
-  for (auto [b, end] = thread_bodies(); b < end; ++b) {
-    if (!finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
-      first_bad = std::min(first_bad, b);
-    if (point_body_[b]) {
+  {
+    const auto [b0, b1] = thread_bodies();
+    for (Index b = b0; b < b1; ++b) {
+      if (!finite_state(bodies_.position[b], bodies_.velocity[b], bodies_.angular_velocity[b]))
+        first_bad = std::min(first_bad, b);
+      if (!point_body_[b]) continue;  // clumps: below
       kick(b, bodies_.force[b], bodies_.torque[b], half);
-      if (all_point_bodies_) {  // the pair loop sums into them (evaluate_pairs_of)
+      if (all_point_bodies_) {  // the pair loop sums into them (evaluate_forces_of)
         bodies_.force[b] = Vec3::Zero();
         bodies_.torque[b] = Vec3::Zero();
       }
@@ -375,50 +378,59 @@ void Simulation::drift_and_kick() {
       const Index e = bodies_.element_begin(b);
       elements_.position[e] = bodies_.position[b];
       max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
-    }  // clumps: below
-  }
-  // Clumps, kRotationBatch at a time (see free_rotations): half kick straight into the
-  // body-frame angular momentum, drift, free rotation, and the pebbles placed with the new
-  // orientation's rotation matrix.
-  const Index nc = static_cast<Index>(clump_bodies_.size());
-  const Index batches = (nc + kRotationBatch - 1) / kRotationBatch;
-#pragma omp parallel for schedule(static) reduction(max : max_move2) if (nc > kChunkSize)
-  for (Index k = 0; k < batches; ++k) {
-    const Index* batch = &clump_bodies_[k * kRotationBatch];
-    const int n = static_cast<int>(std::min<Index>(kRotationBatch, nc - k * kRotationBatch));
-    Quat* q[kRotationBatch];
-    const Vec3* inertia[kRotationBatch];
-    Vec3 l_body[kRotationBatch];
-    for (int m = 0; m < n; ++m) {
-      const Index b = batch[m];
-      bodies_.velocity[b] += (half / bodies_.mass[b]) * bodies_.force[b];
-      bodies_.position[b] += dt_ * bodies_.velocity[b];
-      q[m] = &bodies_.orientation[b];
-      inertia[m] = &bodies_.inertia[b];
-      const Mat3 r0 = q[m]->toRotationMatrix();
-      l_body[m] = inertia[m]->cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
-                  half * (r0.transpose() * bodies_.torque[b]);
     }
-    if (n == kRotationBatch) {
-      free_rotations<kRotationBatch>(q, l_body, inertia, dt_);
-    } else {
-      for (int m = 0; m < n; ++m) free_rotation(*q[m], l_body[m], *inertia[m], dt_);
-    }
-    for (int m = 0; m < n; ++m) {
-      const Index b = batch[m];
-      const Mat3 r1 = q[m]->toRotationMatrix();
-      bodies_.angular_velocity[b] = r1 * l_body[m].cwiseQuotient(*inertia[m]);
-      place_elements(b, r1);
-      const Index end = bodies_.element_end(b);
-      for (Index e = bodies_.element_begin(b); e < end; ++e)
-        max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
-    }
+    // The clump batches that start in this block: the batches themselves do not depend on the
+    // split (free_rotations and free_rotation need not agree to the bit).
+    const auto first_batch = [&](Index b) {
+      const auto i = std::lower_bound(clump_bodies_.begin(), clump_bodies_.end(), b) - clump_bodies_.begin();
+      return (static_cast<Index>(i) + kRotationBatch - 1) / kRotationBatch;
+    };
+    for (Index k = first_batch(b0); k < first_batch(b1); ++k)
+      max_move2 = std::max(max_move2, drift_clump_batch(k, half));
   }
   max_move2_ = max_move2;
   // A state made non-finite between steps (by a caller): name that body now, before the contact
-  // forces carry the NaN to its neighbours, which gather_and_kick would otherwise name.
+  // forces carry the NaN to its neighbours, which gather_chunk would otherwise name.
   if (first_bad < nb)
     fail(fmt::format("body {} has a non-finite position or velocity", first_bad), first_bad);
+}
+
+// Clumps k * kRotationBatch onwards, side by side (see free_rotations): half kick straight into
+// the body-frame angular momentum, drift, free rotation, and the pebbles placed with the new
+// orientation's rotation matrix. Returns the largest squared move of a pebble since the build.
+double Simulation::drift_clump_batch(Index k, double half) {
+  const Index nc = static_cast<Index>(clump_bodies_.size());
+  const Index* batch = &clump_bodies_[k * kRotationBatch];
+  const int n = static_cast<int>(std::min<Index>(kRotationBatch, nc - k * kRotationBatch));
+  Quat* q[kRotationBatch];
+  const Vec3* inertia[kRotationBatch];
+  Vec3 l_body[kRotationBatch];
+  for (int m = 0; m < n; ++m) {
+    const Index b = batch[m];
+    bodies_.velocity[b] += (half / bodies_.mass[b]) * bodies_.force[b];
+    bodies_.position[b] += dt_ * bodies_.velocity[b];
+    q[m] = &bodies_.orientation[b];
+    inertia[m] = &bodies_.inertia[b];
+    const Mat3 r0 = q[m]->toRotationMatrix();
+    l_body[m] = inertia[m]->cwiseProduct(r0.transpose() * bodies_.angular_velocity[b]) +
+                half * (r0.transpose() * bodies_.torque[b]);
+  }
+  if (n == kRotationBatch) {
+    free_rotations<kRotationBatch>(q, l_body, inertia, dt_);
+  } else {
+    for (int m = 0; m < n; ++m) free_rotation(*q[m], l_body[m], *inertia[m], dt_);
+  }
+  double max_move2 = 0.0;
+  for (int m = 0; m < n; ++m) {
+    const Index b = batch[m];
+    const Mat3 r1 = q[m]->toRotationMatrix();
+    bodies_.angular_velocity[b] = r1 * l_body[m].cwiseQuotient(*inertia[m]);
+    place_elements(b, r1);
+    const Index end = bodies_.element_end(b);
+    for (Index e = bodies_.element_begin(b); e < end; ++e)
+      max_move2 = std::max(max_move2, (elements_.position[e] - build_position_[e]).squaredNorm());
+  }
+  return max_move2;
 }
 
 void Simulation::maybe_rebuild() {
@@ -524,7 +536,7 @@ double Simulation::adaptive_skin() const {
 // neighbour-list build an element stays within skin/2 of its build position, so within skin of
 // where it is now; a scan is redone when a wall has moved by skin/4 (or turned). An element
 // further than 1.5 skin from every wall now therefore stays at least skin/4 clear of them: its
-// wall loop would do nothing, and gather_and_kick skips it.
+// wall loop would do nothing, and gather_chunk skips it.
 void Simulation::scan_walls() {
   const Index ne = elements_.size();
   const std::size_t nw = walls_.size();
@@ -645,7 +657,7 @@ void Simulation::evaluate_forces() {
 // The first body of thread t's block: the blocks split the neighbour list, the pair loop's work,
 // at the shares balance_blocks measured (equal shares at first), rather than the bodies (a bed's
 // surface or a sparse region has fewer neighbours per body), and start at a chunk so that
-// gather_and_kick's chunk sums can follow the same split. The result does not depend on where
+// gather_chunk's chunk sums can follow the same split. The result does not depend on where
 // the blocks end.
 Index Simulation::pair_block_start(int t) const {
   const Index nb = bodies_.size();
@@ -716,7 +728,7 @@ void Simulation::balance_blocks() {
     plan.share = old;  // the same blocks: the shares stay those of the blocks measured
 }
 
-// Where each thread's block starts, the pairs that cross blocks (phase A of evaluate_pairs_of)
+// Where each thread's block starts, the pairs that cross blocks (phase A of evaluate_forces_of)
 // and the ones each block takes from earlier blocks: fixed between two builds.
 void Simulation::plan_pair_blocks(int threads) {
   PairBlocks& plan = pair_blocks_;
@@ -857,7 +869,7 @@ void Simulation::evaluate_forces_of() {
         const Index p = work[k1];
         if (pairs_.second[p] >= e1) continue;
         if (batch.size == kContactBatch) break;  // this pair starts the next batch
-        if (k1 + kPairPrefetchDistance < n_work) {  // see gather_and_kick's wall prefetch
+        if (k1 + kPairPrefetchDistance < n_work) {  // see gather_chunk's wall prefetch
           const Index ahead = work[k1 + kPairPrefetchDistance];
           __builtin_prefetch(&pair_spring_[ahead]);
           const Index body = kPointBodies ? pairs_.second[ahead] : elements_.body[pairs_.second[ahead]];
@@ -977,7 +989,7 @@ void Simulation::gather_chunk(Index c) {
         if (const Index ahead = e + kWallPrefetchDistance; nw > 0 && ahead < ne && near_wall_[ahead])
           for (std::size_t w = 0; w < nw; ++w)
             if (wall_active_[ahead * nw + w]) __builtin_prefetch(&wall_history_[ahead * nw + w]);
-        // The pair sums (see evaluate_pairs_of), zeroed as read: the next evaluate_pairs sums from zero.
+        // The pair sums (see evaluate_forces_of), zeroed as read: the next step's pair loop sums from zero.
         Vec3 fe, te;
         if (kPointBodies) {
           fe = bodies_.force[b];

@@ -169,6 +169,7 @@ class Simulation {
 
  private:
   void drift_and_kick();
+  double drift_clump_batch(Index k, double half);
   void maybe_rebuild();
   void rebuild();
   void release_opened_contacts();
