@@ -173,9 +173,10 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   if (tamping_depth > 0.0) {
     StageSetup tamp = settle;
     tamp.sleeper = cut;
-    // Free vertically: it sinks onto the stones under it while the cribs are packed. Held, it
-    // ends up hanging in them (mini, 10 mm: the crib sides carried 84 % of its weight).
-    tamp.sleeper->driven = {true, true, false};
+    // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
+    // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
+    // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
+    tamp.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
     const double duration = c.preparation.tamping_time;
     // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
     const StageDrive grow = [&](dem::Simulation& sim, double) {

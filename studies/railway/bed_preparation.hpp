@@ -28,7 +28,7 @@
 //    With `tamping_depth` > 0 the cut is that much shorter and narrower (sides and ends moved
 //    in): stones that reach only into that shell of the sleeper's volume stay.
 // 5. Tamping (when `tamping_depth` > 0). The sleeper, held across and along the track and free
-//    vertically, with the design friction and local damping `local_damping`, grows from the cut
+//    vertically (or held at its design height: `tamping_sleeper_vertical = "held"`), with the design friction and local damping `local_damping`, grows from the cut
 //    to its full size over `tamping_time`:
 //    its sides and ends push the stones in the shell into the cribs and shoulders, packing
 //    them against it. Without it the sleeper stands in a hole up to a stone's size too large

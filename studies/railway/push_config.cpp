@@ -67,6 +67,7 @@ void read_preparation(const Section& s, PreparationSettings& p) {
                                 "depth in m the sleeper's sides and ends press into the bed as it grows to its size");
   p.tamping_time = s.number_or("tamping_time", p.tamping_time, kPositive,
                                "simulated s over which the sleeper grows to its size");
+  p.tamping_sleeper_held = s.choice("tamping_sleeper_vertical", {"free", "held"}, "free") == "held";
   p.consolidation_gravity = s.number_or("consolidation_gravity", p.consolidation_gravity, {.min = 1.0, .max = 50.0},
                                         "factor on gravity while the bed consolidates (1 = no consolidation)");
   p.consolidation_time = s.number_or("consolidation_time", p.consolidation_time, kPositive,

@@ -36,6 +36,9 @@ struct PreparationSettings {
   // shoulders, packing them against it; 0 cuts the full size out and leaves the gaps.
   double tamping_depth = 0.0;
   double tamping_time = 0.1;
+  // While tamping the sleeper is free vertically (it sinks onto the bed) or held at its design
+  // height, as a tamping machine holds the lifted track while its tines squeeze the ballast.
+  bool tamping_sleeper_held = false;
   // Consolidation: for `consolidation_time` (s) the bed and the sleeper weigh this many times
   // their weight, then settle at 1 g: an overconsolidated bed, whose stones keep part of the
   // lateral stress of the heavy phase (as a bed compacted by traffic); 1 skips the stage.
