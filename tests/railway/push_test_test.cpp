@@ -308,6 +308,12 @@ TEST_CASE("a study config with bad values is refused naming file, key and value"
   CHECK_THROWS_WITH(refused("[push]", "[push]\nsleeper_vertical = \"fixed\""),
                     Catch::Contains("tiny.toml") && Catch::Contains("sleeper_vertical") &&
                         Catch::Contains("fixed") && Catch::Contains("held"));
+  CHECK_THROWS_WITH(refused("max_settling_time = 0.1", "max_settling_time = 0.1\ntamping_sleeper_vertical = \"up\""),
+                    Catch::Contains("tiny.toml") && Catch::Contains("tamping_sleeper_vertical") &&
+                        Catch::Contains("up") && Catch::Contains("held"));
+  CHECK(refused("max_settling_time = 0.1", "max_settling_time = 0.1\ntamping_sleeper_vertical = \"held\"")
+            .preparation.tamping_sleeper_held);
+  CHECK_FALSE(railway::parse_push_config(mfdem::test::kTinyBed, "tiny.toml").preparation.tamping_sleeper_held);
   // Geometry that parses but cannot be built is refused when the bed is prepared.
   railway::PreparationReport report;
   auto narrow = tiny_config();
