@@ -96,6 +96,17 @@ double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
   return top;
 }
 
+// The stone grown (f > 1) or shrunk about its centre of mass: same shape, density and frame.
+dem::ClumpSpec scaled(dem::ClumpSpec stone, double f) {
+  for (auto& p : stone.pebbles) {
+    p.offset *= f;
+    p.radius *= f;
+  }
+  stone.mass *= f * f * f;
+  stone.principal_inertia *= f * f * f * f * f;
+  return stone;
+}
+
 std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
   std::vector<dem::Vec3> x;
   for (const auto& b : bodies) x.push_back(b.position);
@@ -116,6 +127,9 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   const auto count = static_cast<std::int64_t>(std::ceil(c.stones.overfill * c.stones.solid_fraction * container / mean_volume));
   std::vector<DrawnStone> drawn(count);
   for (std::int64_t k = 0; k < count; ++k) drawn[k] = factory.draw(k);
+  // Radius expansion: deposited small, grown back to size in step 5a.
+  const double expansion = 1.0 + c.preparation.expansion_strain;
+  for (auto& s : drawn) s.body = scaled(s.body, 1.0 / expansion);
   drawn = place_in_columns(c, std::move(drawn));
   double mean_size = 0.0;
   for (const auto& s : drawn) mean_size += s.record.size / static_cast<double>(count);
@@ -161,18 +175,51 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   kept = dem::permuted(kept, order);
   records = dem::permuted(records, order);
 
-  // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
-  // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
-  // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely on
-  // its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
+  // Step 5a: radius expansion. The stones grow back to size in equal factors, the bed relaxing
+  // for an equal time after each (each a stage of its own: the solver's radii are fixed within
+  // a run). Contact springs restart at each step; they reload within micrometres of slip.
   StageSetup settle;
   settle.stone_friction = c.ballast.friction;
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
+  double expansion_time = 0.0;
+  if (c.preparation.expansion_strain > 0.0) {
+    const int steps = c.preparation.expansion_steps;
+    const double factor = std::pow(expansion, 1.0 / steps);
+    StageReport expanded;
+    expanded.name = "expand";
+    StageSetup grow = settle;
+    grow.sleeper = cut;  // the sleeper itself when there is no tamping
+    for (int k = 0; k < steps; ++k) {
+      for (auto& s : kept) s = scaled(s, factor);
+      Stage step = run_stage(c, domain, kept, grow, {"expand", c.preparation.equilibrium_ratio,
+                             c.preparation.expansion_time / steps, mean_size, RestCriterion::kFixedTime},
+                             true, {});
+      kept = body_states(step.sim);
+      grow.sleeper->centre = step.sim.boxes()[0].centre;
+      settle.sleeper->centre = step.sim.boxes()[0].centre;
+      expansion_time += step.sim.time();
+      expanded.simulated_time += step.report.simulated_time;
+      expanded.steps += step.report.steps;
+      expanded.wall_seconds += step.report.wall_seconds;
+      expanded.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
+      if (!quiet)
+        fmt::print(stderr, "expand: step {}/{}, stones at {:.4f} of their size, sleeper base at z = {:.4f} m\n", k + 1,
+                   steps, std::pow(factor, k + 1) / expansion, step.sim.boxes()[0].centre.z() - sleeper.half_extent.z());
+    }
+    expanded.settled = true;
+    report.stages.push_back(expanded);
+  }
+
+  // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
+  // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
+  // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely on
+  // its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
   double tamping_time = 0.0;
   if (tamping_depth > 0.0) {
     StageSetup tamp = settle;
     tamp.sleeper = cut;
+    tamp.sleeper->centre = settle.sleeper->centre;  // moved by the expansion, if any
     // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
     // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
     // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
@@ -223,7 +270,7 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   p.sleeper = settling.sim.boxes()[0];
   p.sleeper.velocity = dem::Vec3::Zero();
   p.domain = domain;
-  p.preparation_time = deposition.sim.time() + tamping_time + consolidation_time + settling.sim.time();
+  p.preparation_time = deposition.sim.time() + expansion_time + tamping_time + consolidation_time + settling.sim.time();
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   p.springs = settling.sim.contact_springs();
   return p;

@@ -27,6 +27,10 @@
 //    comes to rest where the bed's lateral forces balance, as a sleeper cut from its rails).
 //    With `tamping_depth` > 0 the cut is that much shorter and narrower (sides and ends moved
 //    in): stones that reach only into that shell of the sleeper's volume stay.
+// 5a. Radius expansion (when `expansion_strain` > 0). The stones, drawn and deposited
+//    1 / (1 + expansion_strain) of their size, grow back about their centres in
+//    `expansion_steps` equal factors with the design friction and local damping, the sleeper (or
+//    its tamping cut) in place: a bed with locked-in stress, as PFC users prepare one.
 // 5. Tamping (when `tamping_depth` > 0). The sleeper, held across and along the track and free
 //    vertically (or held at its design height: `tamping_sleeper_vertical = "held"`), with the design friction and local damping `local_damping`, grows from the cut
 //    to its full size over `tamping_time`:

@@ -72,6 +72,12 @@ void read_preparation(const Section& s, PreparationSettings& p) {
                                         "factor on gravity while the bed consolidates (1 = no consolidation)");
   p.consolidation_time = s.number_or("consolidation_time", p.consolidation_time, kPositive,
                                      "simulated s of the consolidation under raised gravity");
+  p.expansion_strain = s.number_or("expansion_strain", p.expansion_strain, {.min = 0.0, .max = 0.05},
+                                   "linear strain the stones grow by once the sleeper is in place (0 = none)");
+  p.expansion_steps = static_cast<int>(s.integer_or("expansion_steps", p.expansion_steps, {.min = 1, .max = 1000},
+                                                    "equal growth factors of the expansion"));
+  p.expansion_time = s.number_or("expansion_time", p.expansion_time, kPositive,
+                                 "simulated s over which the stones grow");
 }
 
 void read_push(const Section& s, PushSettings& p) {

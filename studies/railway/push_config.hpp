@@ -44,6 +44,13 @@ struct PreparationSettings {
   // lateral stress of the heavy phase (as a bed compacted by traffic); 1 skips the stage.
   double consolidation_gravity = 1.0;
   double consolidation_time = 0.1;
+  // Radius expansion, as PFC users prepare beds: the stones are deposited 1 / (1 + strain) of
+  // their size and grown back, about their centres, once the sleeper is in place, in
+  // `expansion_steps` equal factors over `expansion_time` (s). The bed, confined by the floor,
+  // the sleeper and its periodic images, keeps part of the stress (locked-in stress); 0 skips it.
+  double expansion_strain = 0.0;
+  int expansion_steps = 20;
+  double expansion_time = 0.1;
 };
 
 struct PushSettings {

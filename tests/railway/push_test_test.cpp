@@ -16,6 +16,7 @@
 #include "studies/config/config_error.hpp"
 #include "studies/railway/bed_preparation.hpp"
 #include "studies/railway/push_test.hpp"
+#include "studies/railway/stone_columns.hpp"
 #include "tests/railway/tiny_bed.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -276,6 +277,34 @@ TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base
   check_rests_on_its_base(tamped);
 }
 
+TEST_CASE("radius expansion grows the stones back to their drawn size", "[railway][expansion]") {
+  // References: geometry. Stones deposited 1 / 1.02 of their size and grown back in 4 factors
+  // of 1.02^(1/4) end at the size they were drawn with: every kept stone's mass, pebble radii and
+  // offsets equal the factory's draw of the same id to 1e-12 relative (round-off of five
+  // products), and the stage lasts its set time.
+  railway::PushStudyConfig config = tiny_config();
+  config.preparation.expansion_strain = 0.02;
+  config.preparation.expansion_steps = 4;
+  config.preparation.expansion_time = 0.02;
+  railway::PreparationReport report;
+  const railway::Packing expanded = railway::prepare_bed(config, true, report);
+  REQUIRE(report.stages.size() == 3);
+  CHECK(report.stages[1].name == "expand");
+  CHECK(report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  const railway::StoneFactory factory(config);
+  REQUIRE(expanded.stones.size() > 100);
+  for (std::size_t k = 0; k < expanded.stones.size(); ++k) {
+    const dem::ClumpSpec& grown = expanded.bodies[k];
+    const dem::ClumpSpec drawn = factory.draw(expanded.stones[k].id).body;
+    CHECK(grown.mass == Approx(drawn.mass).epsilon(1e-12));
+    REQUIRE(grown.pebbles.size() == drawn.pebbles.size());
+    for (std::size_t q = 0; q < grown.pebbles.size(); ++q) {
+      CHECK(grown.pebbles[q].radius == Approx(drawn.pebbles[q].radius).epsilon(1e-12));
+      CHECK((grown.pebbles[q].offset - drawn.pebbles[q].offset).norm() <= 1e-12 * drawn.pebbles[q].radius);
+    }
+  }
+}
+
 TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g", "[railway][consolidation]") {
   // References: the stage's set duration, and statics after it: back at 1 g the sleeper's faces
   // carry its weight (not ten times it) to 5 % (check_rests_on_its_base), the base most of it.
@@ -314,6 +343,8 @@ TEST_CASE("a study config with bad values is refused naming file, key and value"
   CHECK(refused("max_settling_time = 0.1", "max_settling_time = 0.1\ntamping_sleeper_vertical = \"held\"")
             .preparation.tamping_sleeper_held);
   CHECK_FALSE(railway::parse_push_config(mfdem::test::kTinyBed, "tiny.toml").preparation.tamping_sleeper_held);
+  CHECK_THROWS_WITH(refused("max_settling_time = 0.1", "max_settling_time = 0.1\nexpansion_strain = 0.2"),
+                    Catch::Contains("tiny.toml") && Catch::Contains("expansion_strain") && Catch::Contains("0.2"));
   // Geometry that parses but cannot be built is refused when the bed is prepared.
   railway::PreparationReport report;
   auto narrow = tiny_config();
