@@ -113,6 +113,35 @@ std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
   return x;
 }
 
+// Step 4b, radius expansion: grows `stones` back to their drawn size in equal factors, the bed
+// moving for an equal time after each (each a solver run of its own: radii are fixed within a
+// run; contact springs restart and reload within micrometres of slip). Moves `setup.sleeper`
+// to where the bed carried it.
+StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, StageSetup& setup, double mean_size,
+                        bool quiet, std::vector<dem::ClumpSpec>& stones) {
+  const int steps = c.preparation.expansion_steps;
+  const double factor = std::pow(1.0 + c.preparation.expansion_strain, 1.0 / steps);
+  StageReport total;
+  total.name = "expand";
+  for (int k = 0; k < steps; ++k) {
+    for (auto& s : stones) s = scaled(s, factor);
+    const Stage step = run_stage(c, domain, stones, setup, {"expand", c.preparation.equilibrium_ratio,
+                                 c.preparation.expansion_time / steps, mean_size, RestCriterion::kFixedTime},
+                                 true, {});
+    stones = body_states(step.sim);
+    setup.sleeper->centre = step.sim.boxes()[0].centre;
+    total.simulated_time += step.report.simulated_time;
+    total.steps += step.report.steps;
+    total.wall_seconds += step.report.wall_seconds;
+    total.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
+    if (!quiet)
+      fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
+                 steps, setup.sleeper->centre.z() - setup.sleeper->half_extent.z(), total.unbalanced_force_ratio);
+  }
+  total.settled = true;  // a set duration
+  return total;
+}
+
 }  // namespace
 
 Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
@@ -175,40 +204,18 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   kept = dem::permuted(kept, order);
   records = dem::permuted(records, order);
 
-  // Step 5a: radius expansion. The stones grow back to size in equal factors, the bed relaxing
-  // for an equal time after each (each a stage of its own: the solver's radii are fixed within
-  // a run). Contact springs restart at each step; they reload within micrometres of slip.
   StageSetup settle;
   settle.stone_friction = c.ballast.friction;
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
+  // Step 4b: radius expansion (grow_stones), when asked for.
   double expansion_time = 0.0;
   if (c.preparation.expansion_strain > 0.0) {
-    const int steps = c.preparation.expansion_steps;
-    const double factor = std::pow(expansion, 1.0 / steps);
-    StageReport expanded;
-    expanded.name = "expand";
     StageSetup grow = settle;
     grow.sleeper = cut;  // the sleeper itself when there is no tamping
-    for (int k = 0; k < steps; ++k) {
-      for (auto& s : kept) s = scaled(s, factor);
-      Stage step = run_stage(c, domain, kept, grow, {"expand", c.preparation.equilibrium_ratio,
-                             c.preparation.expansion_time / steps, mean_size, RestCriterion::kFixedTime},
-                             true, {});
-      kept = body_states(step.sim);
-      grow.sleeper->centre = step.sim.boxes()[0].centre;
-      settle.sleeper->centre = step.sim.boxes()[0].centre;
-      expansion_time += step.sim.time();
-      expanded.simulated_time += step.report.simulated_time;
-      expanded.steps += step.report.steps;
-      expanded.wall_seconds += step.report.wall_seconds;
-      expanded.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
-      if (!quiet)
-        fmt::print(stderr, "expand: step {}/{}, stones at {:.4f} of their size, sleeper base at z = {:.4f} m\n", k + 1,
-                   steps, std::pow(factor, k + 1) / expansion, step.sim.boxes()[0].centre.z() - sleeper.half_extent.z());
-    }
-    expanded.settled = true;
-    report.stages.push_back(expanded);
+    report.stages.push_back(grow_stones(c, domain, grow, mean_size, quiet, kept));
+    settle.sleeper->centre = grow.sleeper->centre;
+    expansion_time = report.stages.back().simulated_time;
   }
 
   // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the

@@ -27,7 +27,7 @@
 //    comes to rest where the bed's lateral forces balance, as a sleeper cut from its rails).
 //    With `tamping_depth` > 0 the cut is that much shorter and narrower (sides and ends moved
 //    in): stones that reach only into that shell of the sleeper's volume stay.
-// 5a. Radius expansion (when `expansion_strain` > 0). The stones, drawn and deposited
+// 4b. Radius expansion (when `expansion_strain` > 0). The stones, drawn and deposited
 //    1 / (1 + expansion_strain) of their size, grow back about their centres in
 //    `expansion_steps` equal factors with the design friction and local damping, the sleeper (or
 //    its tamping cut) in place: a bed with locked-in stress, as PFC users prepare one.
