@@ -256,20 +256,31 @@ TEST_CASE("the pressing split takes each face's inward normal force", "[railway]
   CHECK(railway::resistance_parts(faces).shoulder == 10.0);
 }
 
+namespace {
+
+// Prepares the tiny bed with `config`, which adds one stage between deposition and settling,
+// and checks that stage ran under `name` for its set `duration` (s).
+railway::Packing prepared_with_stage(const railway::PushStudyConfig& config, const char* name, double duration) {
+  railway::PreparationReport report;
+  railway::Packing packing = railway::prepare_bed(config, true, report);
+  REQUIRE(report.stages.size() == 3);
+  CHECK(report.stages[1].name == name);
+  CHECK(report.stages[1].simulated_time == Approx(duration).epsilon(1e-3));
+  return packing;
+}
+
+}  // namespace
+
 TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base", "[railway][tamping]") {
   // References: geometry and statics. The cut is tamping_depth shorter and narrower, so stones
   // that reached only into that shell stay (more stones kept); the sleeper ends at its design
   // size to round-off (1e-12 m); and, free vertically while tamped, it rests on the stones under
   // it: over the first 0.5 mm of a push its faces carry its weight (5 %), the base most of it.
   railway::PushStudyConfig config = tiny_config();
-  railway::PreparationReport tamped_report;
   const railway::Packing& plain = shared_packing();
   config.preparation.tamping_depth = 0.004;
   config.preparation.tamping_time = 0.02;
-  const railway::Packing tamped = railway::prepare_bed(config, true, tamped_report);
-  REQUIRE(tamped_report.stages.size() == 3);
-  CHECK(tamped_report.stages[1].name == "tamp");
-  CHECK(tamped_report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  const railway::Packing tamped = prepared_with_stage(config, "tamp", 0.02);
   CAPTURE(plain.bodies.size(), tamped.bodies.size());
   CHECK(tamped.bodies.size() > plain.bodies.size());
   CHECK((tamped.sleeper.half_extent - plain.sleeper.half_extent).norm() < 1e-12);
@@ -286,11 +297,7 @@ TEST_CASE("radius expansion grows the stones back to their drawn size", "[railwa
   config.preparation.expansion_strain = 0.02;
   config.preparation.expansion_steps = 4;
   config.preparation.expansion_time = 0.02;
-  railway::PreparationReport report;
-  const railway::Packing expanded = railway::prepare_bed(config, true, report);
-  REQUIRE(report.stages.size() == 3);
-  CHECK(report.stages[1].name == "expand");
-  CHECK(report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  const railway::Packing expanded = prepared_with_stage(config, "expand", 0.02);
   const railway::StoneFactory factory(config);
   REQUIRE(expanded.stones.size() > 100);
   for (std::size_t k = 0; k < expanded.stones.size(); ++k) {
@@ -311,11 +318,7 @@ TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g"
   railway::PushStudyConfig config = tiny_config();
   config.preparation.consolidation_gravity = 10.0;
   config.preparation.consolidation_time = 0.02;
-  railway::PreparationReport report;
-  const railway::Packing consolidated = railway::prepare_bed(config, true, report);
-  REQUIRE(report.stages.size() == 3);
-  CHECK(report.stages[1].name == "consolidate");
-  CHECK(report.stages[1].simulated_time == Approx(0.02).epsilon(1e-3));
+  const railway::Packing consolidated = prepared_with_stage(config, "consolidate", 0.02);
   check_rests_on_its_base(consolidated);
 }
 
