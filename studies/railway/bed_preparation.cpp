@@ -146,6 +146,7 @@ StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, Sta
 
 Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
                     const std::filesystem::path& stage_directory) {
+  const std::size_t first_stage = report.stages.size();
   const SectionGeometry& g = c.geometry;
   const StoneFactory factory(c);
   // Step 1: how many stones fill the container to the ballast top.
@@ -156,7 +157,7 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   const auto count = static_cast<std::int64_t>(std::ceil(c.stones.overfill * c.stones.solid_fraction * container / mean_volume));
   std::vector<DrawnStone> drawn(count);
   for (std::int64_t k = 0; k < count; ++k) drawn[k] = factory.draw(k);
-  // Radius expansion: deposited small, grown back to size in step 5a.
+  // Radius expansion: deposited small, grown back to size in step 4b.
   const double expansion = 1.0 + c.preparation.expansion_strain;
   for (auto& s : drawn) s.body = scaled(s.body, 1.0 / expansion);
   drawn = place_in_columns(c, std::move(drawn));
@@ -209,20 +210,17 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
   // Step 4b: radius expansion (grow_stones), when asked for.
-  double expansion_time = 0.0;
   if (c.preparation.expansion_strain > 0.0) {
     StageSetup grow = settle;
     grow.sleeper = cut;  // the sleeper itself when there is no tamping
     report.stages.push_back(grow_stones(c, domain, grow, mean_size, quiet, kept));
     settle.sleeper->centre = grow.sleeper->centre;
-    expansion_time = report.stages.back().simulated_time;
   }
 
   // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
   // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
   // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely on
   // its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
-  double tamping_time = 0.0;
   if (tamping_depth > 0.0) {
     StageSetup tamp = settle;
     tamp.sleeper = cut;
@@ -244,14 +242,12 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
     report.stages.push_back(tamping.report);
     kept = body_states(tamping.sim);
     settle.sleeper->centre = tamping.sim.boxes()[0].centre;  // where it sank to
-    tamping_time = tamping.sim.time();
   }
 
   // Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while: the
   // bed compacts under the heavier sleeper and its own weight, and, settled again at 1 g, keeps
   // part of the lateral stress (an overconsolidated soil's K exceeds K0). Without it the stones
   // beside the cut lean on the sleeper with K about 0.1 (standard seed 1, results/push_test).
-  double consolidation_time = 0.0;
   if (c.preparation.consolidation_gravity > 1.0) {
     StageSetup heavy = settle;
     heavy.gravity_factor = c.preparation.consolidation_gravity;
@@ -261,7 +257,6 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
     report.stages.push_back(consolidation.report);
     kept = body_states(consolidation.sim);
     settle.sleeper->centre = consolidation.sim.boxes()[0].centre;
-    consolidation_time = consolidation.sim.time();
   }
 
   // Step 6: settle with the design friction, the sleeper free to sink onto the bed.
@@ -277,7 +272,9 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   p.sleeper = settling.sim.boxes()[0];
   p.sleeper.velocity = dem::Vec3::Zero();
   p.domain = domain;
-  p.preparation_time = deposition.sim.time() + expansion_time + tamping_time + consolidation_time + settling.sim.time();
+  // Every stage starts its clock at zero: the preparation lasted the sum of the stages' times.
+  p.preparation_time = 0.0;
+  for (std::size_t k = first_stage; k < report.stages.size(); ++k) p.preparation_time += report.stages[k].simulated_time;
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   p.springs = settling.sim.contact_springs();
   return p;

@@ -32,8 +32,9 @@
 //    `expansion_steps` equal factors with the design friction and local damping, the sleeper (or
 //    its tamping cut) in place: a bed with locked-in stress, as PFC users prepare one.
 // 5. Tamping (when `tamping_depth` > 0). The sleeper, held across and along the track and free
-//    vertically (or held at its design height: `tamping_sleeper_vertical = "held"`), with the design friction and local damping `local_damping`, grows from the cut
-//    to its full size over `tamping_time`:
+//    vertically (or held at its design height: `tamping_sleeper_vertical = "held"`), with the
+//    design friction and local damping `local_damping`, grows from the cut to its full size
+//    over `tamping_time`:
 //    its sides and ends push the stones in the shell into the cribs and shoulders, packing
 //    them against it. Without it the sleeper stands in a hole up to a stone's size too large
 //    and the crib stones lean loosely on it. The base is not pressed down (bed_preparation.cpp).

@@ -46,8 +46,8 @@ struct PreparationSettings {
   double consolidation_time = 0.1;
   // Radius expansion, as PFC users prepare beds: the stones are deposited 1 / (1 + strain) of
   // their size and grown back, about their centres, once the sleeper is in place, in
-  // `expansion_steps` equal factors over `expansion_time` (s). The bed, confined by the floor,
-  // the sleeper and its periodic images, keeps part of the stress (locked-in stress); 0 skips it.
+  // `expansion_steps` equal factors over `expansion_time` (s), to lock stress into the bed; 0
+  // skips it. (On the standard bed the stress left through the free surfaces: results/push_test.)
   double expansion_strain = 0.0;
   int expansion_steps = 20;
   double expansion_time = 0.1;
