@@ -25,6 +25,9 @@ struct RigidBox {
   Vec3 growth_rate = Vec3::Zero();
 };
 
+// Height of the box's bottom face (a sleeper's base), m.
+inline double box_bottom(const RigidBox& box) { return box.centre.z() - box.half_extent.z(); }
+
 // The growth part of the velocity of the box surface point nearest x: each face it lies on
 // moves outwards at its axis's growth rate (an edge or corner at the sum).
 inline Vec3 box_growth_velocity(const RigidBox& box, const Vec3& x) {

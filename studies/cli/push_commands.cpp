@@ -42,13 +42,14 @@ void print_preparation(std::ostream& out, const railway::Packing& p, const railw
   fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({} generated, {} trimmed), time step {:.3g} s\n",
              p.config.name, p.config.seed, p.stones.size(), p.element_count(), r.stones_generated,
              r.stones_removed, r.time_step);
-  fmt::print(out, "  {:<10} {:>12} {:>10} {:>16} {:>9} {:>10}\n", "stage", "simulated s", "steps",
-             "unbalanced ratio", "settled", "wall");
+  fmt::print(out, "  {:<10} {:>12} {:>10} {:>16} {:>9} {:>10} {:>16}\n", "stage", "simulated s", "steps",
+             "unbalanced ratio", "settled", "wall", "sleeper base (m)");
   for (const auto& s : r.stages)
-    fmt::print(out, "  {:<10} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>10}\n", s.name, s.simulated_time, s.steps,
-               s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds));
-  fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n",
-             p.sleeper.centre.z() - p.sleeper.half_extent.z(), p.config.geometry.sleeper_base());
+    fmt::print(out, "  {:<10} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>10} {:>16}\n", s.name, s.simulated_time, s.steps,
+               s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds),
+               s.sleeper_base ? fmt::format("{:.5f}", *s.sleeper_base) : "-");
+  fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n", dem::box_bottom(p.sleeper),
+             p.config.geometry.sleeper_base());
 }
 
 // Packs into options.out; returns the packing file.

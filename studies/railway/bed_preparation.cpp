@@ -86,6 +86,7 @@ Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::
     frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
   stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
                                    goal.max_time, quiet, goal.criterion, frames.get(), 0.02, 2e-3, drive);
+  if (setup.sleeper) stage.report.sleeper_base = dem::box_bottom(sim.boxes()[0]);
   return stage;
 }
 
@@ -134,9 +135,10 @@ StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, Sta
     total.steps += step.report.steps;
     total.wall_seconds += step.report.wall_seconds;
     total.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
+    total.sleeper_base = step.report.sleeper_base;
     if (!quiet)
       fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
-                 steps, setup.sleeper->centre.z() - setup.sleeper->half_extent.z(), total.unbalanced_force_ratio);
+                 steps, *total.sleeper_base, total.unbalanced_force_ratio);
   }
   total.settled = true;  // a set duration
   return total;

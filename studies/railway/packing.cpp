@@ -148,6 +148,7 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
     dem::h5::write_attribute(g, "steps", static_cast<double>(s.steps));
     dem::h5::write_attribute(g, "settled", s.settled ? 1.0 : 0.0);
     dem::h5::write_attribute(g, "wall_seconds", s.wall_seconds);
+    if (s.sleeper_base) dem::h5::write_attribute(g, "sleeper_base", *s.sleeper_base);
     dem::h5::write_doubles(g, "time", s.check_time);
     dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
     dem::h5::write_doubles(g, "kinetic_ratio", s.check_kinetic_ratio);

@@ -9,6 +9,7 @@
 // fixed step counts, so a stage ends on the same step whatever the thread count.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,9 @@ struct StageReport {
   double unbalanced_force_ratio = 0.0;
   bool settled = false;            // false: stopped by the time limit
   double wall_seconds = 0.0;
+  // m: height of the sleeper's bottom face at the stage's end (none before the sleeper is in).
+  // Shows what a stage did to it: sank it, lifted it, or (held) kept it at its height.
+  std::optional<double> sleeper_base;
   // At every check: simulated time since the stage began (s), the unbalanced force ratio and the
   // kinetic energy over the energy scale. How the bed came to rest, or did not.
   std::vector<double> check_time, check_force_ratio, check_kinetic_ratio;

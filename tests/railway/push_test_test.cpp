@@ -259,13 +259,18 @@ TEST_CASE("the pressing split takes each face's inward normal force", "[railway]
 namespace {
 
 // Prepares the tiny bed with `config`, which adds one stage between deposition and settling,
-// and checks that stage ran under `name` for its set `duration` (s).
-railway::Packing prepared_with_stage(const railway::PushStudyConfig& config, const char* name, double duration) {
+// and checks that stage ran under `name` for its set `duration` (s). `stage_base`, when given,
+// receives the height of the sleeper's base at the end of that stage.
+railway::Packing prepared_with_stage(const railway::PushStudyConfig& config, const char* name, double duration,
+                                     double* stage_base = nullptr) {
   railway::PreparationReport report;
   railway::Packing packing = railway::prepare_bed(config, true, report);
   REQUIRE(report.stages.size() == 3);
   CHECK(report.stages[1].name == name);
   CHECK(report.stages[1].simulated_time == Approx(duration).epsilon(1e-3));
+  CHECK_FALSE(report.stages[0].sleeper_base);  // deposited before the sleeper is in
+  REQUIRE(report.stages[1].sleeper_base);
+  if (stage_base) *stage_base = *report.stages[1].sleeper_base;
   return packing;
 }
 
@@ -280,12 +285,30 @@ TEST_CASE("tamping packs the stones beside the sleeper and leaves it on its base
   const railway::Packing& plain = shared_packing();
   config.preparation.tamping_depth = 0.004;
   config.preparation.tamping_time = 0.02;
-  const railway::Packing tamped = prepared_with_stage(config, "tamp", 0.02);
-  CAPTURE(plain.bodies.size(), tamped.bodies.size());
+  double tamped_base = 0.0;
+  const railway::Packing tamped = prepared_with_stage(config, "tamp", 0.02, &tamped_base);
+  // Free, the stones it packs press it up out of its cut (4 mm of tamping: 2.0 mm up); held
+  // tamping (the next test) exists for that.
+  CHECK(tamped_base > config.geometry.sleeper_base() + 1e-4);
+  CAPTURE(plain.bodies.size(), tamped.bodies.size(), tamped_base);
   CHECK(tamped.bodies.size() > plain.bodies.size());
   CHECK((tamped.sleeper.half_extent - plain.sleeper.half_extent).norm() < 1e-12);
   CHECK(tamped.sleeper.growth_rate.norm() == 0.0);
   check_rests_on_its_base(tamped);
+}
+
+TEST_CASE("held tamping keeps the sleeper at its design height", "[railway][tamping]") {
+  // Reference: kinematics. Held vertically (tamping_sleeper_vertical = "held") the growing
+  // sleeper's base stays at its design height to round-off (1e-12 m), however hard the stones
+  // it packs press on it.
+  railway::PushStudyConfig config = tiny_config();
+  config.preparation.tamping_depth = 0.004;
+  config.preparation.tamping_time = 0.02;
+  config.preparation.tamping_sleeper_held = true;
+  double held_base = 0.0;
+  const railway::Packing tamped = prepared_with_stage(config, "tamp", 0.02, &held_base);
+  CHECK(held_base == Approx(config.geometry.sleeper_base()).margin(1e-12));
+  CHECK(tamped.bodies.size() > shared_packing().bodies.size());  // the cut kept more stones
 }
 
 TEST_CASE("radius expansion grows the stones back to their drawn size", "[railway][expansion]") {
