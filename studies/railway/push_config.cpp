@@ -135,6 +135,14 @@ PushStudyConfig read(const Section& root, const std::string& text, const std::fi
       (name == "ballast" ? c.ballast : name == "sleeper" ? c.sleeper : c.floor) = read;
     }
   }
+  for (const auto& s : root.sections("pair")) {
+    const dem::PairOverride o = scene::read_pair_override(s, {"ballast", "sleeper", "floor"});
+    // A material's pair with itself is the material's own value (and the deposition lowers the
+    // ballast's friction, which an override would undo).
+    if (o.material_a == o.material_b)
+      s.fail("materials", "two different materials (set a material's own value under [materials." + o.material_a + "])");
+    c.pairs.push_back(o);
+  }
   root.finish();
   return c;
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "dem/material.hpp"
 #include "dem/stability.hpp"
@@ -80,6 +81,9 @@ struct PushStudyConfig {
   SectionGeometry geometry;
   StoneSettings stones;
   dem::Material ballast, sleeper, floor;
+  // [[pair]] overrides between two different materials (e.g. a rougher stone-sleeper interface);
+  // they hold in every stage of the preparation and in the push.
+  std::vector<dem::PairOverride> pairs;
   PreparationSettings preparation;
   PushSettings push;
   double time_step_safety = 0.2;    // automatic step = safety x critical step

@@ -34,6 +34,7 @@ dem::Simulation make_section_simulation(const PushStudyConfig& c, const dem::Dom
   materials.add(ballast);
   materials.add(c.sleeper);
   materials.add(c.floor);
+  for (const auto& o : c.pairs) materials.add_override(o);
   dem::SimulationSettings settings;
   settings.time_step_safety = c.time_step_safety;
   settings.guards = c.guards;

@@ -1,5 +1,10 @@
 #include "studies/scene/material_keys.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+
 namespace mfdem::scene {
 namespace {
 
@@ -24,6 +29,23 @@ dem::Material read_material(const config::Section& s, const std::string& name) {
   m.local_damping = s.number_or("local_damping", 0.0, {.min = 0.0, .max = 1.0, .max_exclusive = true},
                                 "local damping coefficient alpha");
   return m;
+}
+
+dem::PairOverride read_pair_override(const config::Section& s, const std::vector<std::string>& known) {
+  const auto names = s.strings_or("materials", {});
+  if (names.size() != 2) s.fail("materials", "two material names, e.g. [\"ballast\", \"sleeper\"]");
+  for (const auto& n : names)
+    if (std::find(known.begin(), known.end(), n) == known.end())
+      s.fail("materials", fmt::format("names of defined materials ({})", fmt::join(known, ", ")));
+  dem::PairOverride o;
+  o.material_a = names[0];
+  o.material_b = names[1];
+  if (s.has("friction")) o.friction = s.number("friction", kNonNegative, "friction coefficient");
+  if (s.has("rolling_friction"))
+    o.rolling_friction = s.number("rolling_friction", kNonNegative, "rolling friction coefficient mu_r");
+  if (s.has("damping_ratio"))
+    o.damping_ratio = s.number("damping_ratio", kFraction, "viscous damping ratio");
+  return o;
 }
 
 void read_guards(const config::Section& s, dem::GuardSettings& g) {

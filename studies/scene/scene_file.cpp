@@ -51,22 +51,6 @@ void read_domain(const Section& s, dem::Domain& d) {
   }
 }
 
-void read_pair_override(const Section& s, dem::MaterialTable& materials) {
-  const auto names = s.strings_or("materials", {});
-  if (names.size() != 2) s.fail("materials", "two material names, e.g. [\"ballast\", \"sleeper\"]");
-  for (const auto& n : names)
-    if (materials.index_of(n) < 0) s.fail("materials", "names of materials defined under [materials]");
-  dem::PairOverride o;
-  o.material_a = names[0];
-  o.material_b = names[1];
-  if (s.has("friction")) o.friction = s.number("friction", kNonNegative, "friction coefficient");
-  if (s.has("rolling_friction"))
-    o.rolling_friction = s.number("rolling_friction", kNonNegative, "rolling friction coefficient mu_r");
-  if (s.has("damping_ratio"))
-    o.damping_ratio = s.number("damping_ratio", kFraction, "viscous damping ratio");
-  materials.add_override(o);
-}
-
 void read_walls(const Section& s, int index, Scene& scene) {
   const std::string type = s.choice("type", {"plane", "box"});
   const int material = material_key(s, scene.materials);
@@ -134,7 +118,7 @@ Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t>
   const auto names = materials.names();
   if (names.empty()) materials.fail("", "at least one material, e.g. [materials.ballast]");
   for (const auto& name : names) scene.materials.add(read_material(materials.section(name), name));
-  for (const auto& pair : root.sections("pair")) read_pair_override(pair, scene.materials);
+  for (const auto& pair : root.sections("pair")) scene.materials.add_override(read_pair_override(pair, names));
 
   for (const auto& s : root.sections("sphere")) scene.spheres.push_back(read_sphere(s, scene.materials));
   for (const auto& s : root.sections("sphere_file")) {

@@ -345,6 +345,29 @@ TEST_CASE("consolidation runs the bed at raised gravity, then settles it at 1 g"
   check_rests_on_its_base(consolidated);
 }
 
+TEST_CASE("a [[pair]] override sets the stone-sleeper friction the push runs with", "[railway][config]") {
+  // Reference: the config itself. The push reports the stone-sleeper friction of its material
+  // table: the override's 0.8 instead of Table 1's 0.5; pairs of a material with itself and
+  // unknown names are refused naming file, key and value.
+  const std::string pair = "\n[[pair]]\nmaterials = [\"ballast\", \"sleeper\"]\nfriction = 0.8\n";
+  const railway::PushStudyConfig rough = railway::parse_push_config(mfdem::test::kTinyBed + pair, "tiny.toml");
+  REQUIRE(rough.pairs.size() == 1);
+  railway::PushRun run;
+  run.velocity = rough.push.velocity;
+  run.distance = 2e-4;
+  run.quiet = true;
+  CHECK(railway::run_push(shared_packing(), rough, run).sleeper_friction == 0.8);
+  CHECK(railway::run_push(shared_packing(), tiny_config(), run).sleeper_friction == 0.5);
+  const auto with_pair = [](const std::string& materials) {
+    return railway::parse_push_config(std::string(mfdem::test::kTinyBed) + "\n[[pair]]\nmaterials = " + materials + "\nfriction = 0.8\n",
+                                      "tiny.toml");
+  };
+  CHECK_THROWS_WITH(with_pair("[\"ballast\", \"ballast\"]"),
+                    Catch::Contains("tiny.toml") && Catch::Contains("materials") && Catch::Contains("two different"));
+  CHECK_THROWS_WITH(with_pair("[\"ballast\", \"rail\"]"),
+                    Catch::Contains("rail") && Catch::Contains("ballast, sleeper, floor"));
+}
+
 TEST_CASE("a study config with bad values is refused naming file, key and value", "[railway][config]") {
   const auto refused = [](const std::string& replace, const std::string& by) {
     std::string text = mfdem::test::kTinyBed;
