@@ -419,6 +419,10 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
     CHECK(full.geometry.depth_under_sleeper == 0.30);
     CHECK(full.ballast.normal_stiffness == 2e7);  // Table 1
     CHECK(full.sleeper.normal_stiffness == 5e9);
+    // Tamped 20 mm with the sleeper held, then consolidated at 10 g (results/push_test, stop 18).
+    CHECK(full.preparation.tamping_depth == 0.020);
+    CHECK(full.preparation.tamping_sleeper_held);
+    CHECK(full.preparation.consolidation_gravity == 10.0);
   }
   CHECK_FALSE(railway::load_push_config("paper").geometry.periodic_along_track);  // the paper's walls
   CHECK_THROWS_WITH(railway::load_push_config("maxi"), Catch::Contains("mini, standard and paper"));
