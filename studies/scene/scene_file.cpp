@@ -20,7 +20,6 @@ dem::Vec3 to_vec(const std::array<double, 3>& a) { return dem::Vec3(a[0], a[1], 
 
 const Range kPositive{.min = 0.0, .min_exclusive = true};
 const Range kNonNegative{.min = 0.0};
-const Range kFraction{.min = 0.0, .max = 1.0};
 
 void read_simulation(const Section& s, Scene& scene) {
   scene.duration = s.number("duration", kPositive, "simulated time in s");
