@@ -24,6 +24,8 @@ struct PackOptions {
   CommonOptions common;
   std::string config;
   bool keep_stages = false;
+  bool resume = false;
+  std::string stop_after;
 };
 
 struct PushOptions {
@@ -52,18 +54,29 @@ void print_preparation(std::ostream& out, const railway::Packing& p, const railw
              p.config.geometry.sleeper_base());
 }
 
-// Packs into options.out; returns the packing file.
-fs::path pack(const PackOptions& o) {
+// Packs into options.out; returns the packing file, or none when stopped by --stop-after.
+std::optional<fs::path> pack(const PackOptions& o) {
   railway::PushStudyConfig config = railway::load_push_config(o.config);
   if (o.common.seed_given) config.seed = o.common.seed;
   fs::create_directories(o.common.out);
+  railway::PreparationControl control;
+  control.quiet = o.common.quiet;
+  control.stage_directory = o.keep_stages ? o.common.out : fs::path();
+  control.checkpoint = o.common.out / "checkpoint.h5";
+  control.resume = o.resume;
+  control.stop_after = o.stop_after;
   railway::PreparationReport report;
-  const railway::Packing packing = railway::prepare_bed(config, o.common.quiet, report,
-                                                              o.keep_stages ? o.common.out : fs::path());
+  const std::optional<railway::Packing> packing = railway::prepare_bed(config, control, report);
+  if (!packing) {
+    fmt::print("Stopped after stage '{}': the bed is in {}.\nGo on with: mfdem pack {} --seed {} --out {} --resume\n",
+               o.stop_after, control.checkpoint.string(), o.config, config.seed, o.common.out.string());
+    return std::nullopt;
+  }
   const fs::path file = o.common.out / "packing.h5";
-  railway::save_packing(file, packing);
+  railway::save_packing(file, *packing);
   railway::append_stage_reports(file, report.stages);
-  print_preparation(std::cout, packing, report);
+  fs::remove(control.checkpoint);  // the packing holds all of it now
+  print_preparation(std::cout, *packing, report);
   fmt::print("  written: {}\n", file.string());
   for (const auto& s : report.stages)
     if (!s.settled)
@@ -129,8 +142,16 @@ void add_push_commands(CLI::App& app, Action& action) {
                            "A preset (mini, standard, paper) or a study config file (TOML)")->required();
   pack_command->add_flag("--keep-stages", pack_options->keep_stages,
                          "Also write the deposition and settling stages (OUT/deposit.h5, settle.h5, + .xdmf)");
+  pack_command->add_flag("--resume", pack_options->resume,
+                         "Go on from OUT/checkpoint.h5, left by a stopped or interrupted pack with the same "
+                         "config and seed");
+  pack_command->add_option("--stop-after", pack_options->stop_after,
+                           "Stop after this stage (deposit, expand, tamp, consolidate: those the config runs), "
+                           "its checkpoint written; go on later with --resume");
   add_common_options(*pack_command, pack_options->common);
   pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
+                       "After every stage the bed is saved to OUT/checkpoint.h5 (removed once the packing is\n"
+                       "written): a pack stopped by --stop-after, killed or unstable goes on with --resume.\n"
                        "The procedure is described in studies/presets/README.md.");
   pack_command->callback([pack_options, &action] {
     action = [pack_options] {
@@ -173,7 +194,7 @@ void add_push_commands(CLI::App& app, Action& action) {
         p.common = one_shot->common;
         p.config = one_shot->packing;
         // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.
-        return push(*one_shot, pack(p));
+        return push(*one_shot, *pack(p));
       });
     };
   });

@@ -1,6 +1,7 @@
 #include "studies/railway/bed_preparation.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -144,11 +145,10 @@ StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, Sta
   return total;
 }
 
-}  // namespace
-
-Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
-                    const std::filesystem::path& stage_directory) {
-  const std::size_t first_stage = report.stages.size();
+// Steps 1-4: draws the stones, deposits them, trims the bed to the profile and cuts the
+// sleeper's place.
+BedBetweenStages deposit_and_trim(const PushStudyConfig& c, bool quiet, PreparationReport& report,
+                                  const std::filesystem::path& stage_directory) {
   const SectionGeometry& g = c.geometry;
   const StoneFactory factory(c);
   // Step 1: how many stones fill the container to the ballast top.
@@ -163,123 +163,195 @@ Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& rep
   const double expansion = 1.0 + c.preparation.expansion_strain;
   for (auto& s : drawn) s.body = scaled(s.body, 1.0 / expansion);
   drawn = place_in_columns(c, std::move(drawn));
-  double mean_size = 0.0;
-  for (const auto& s : drawn) mean_size += s.record.size / static_cast<double>(count);
+  BedBetweenStages bed;
+  for (const auto& s : drawn) bed.mean_size += s.record.size / static_cast<double>(count);
   report.stones_generated = count;
 
   std::vector<dem::ClumpSpec> bodies;
   for (const auto& s : drawn) bodies.push_back(s.body);
   // Stored in space order: neighbours in space are neighbours in memory (dem/spatial_order.hpp).
-  const std::vector<dem::Index> placed_order = dem::morton_order(positions_of(bodies), mean_size);
+  const std::vector<dem::Index> placed_order = dem::morton_order(positions_of(bodies), bed.mean_size);
   drawn = dem::permuted(drawn, placed_order);
   bodies = dem::permuted(bodies, placed_order);
-  const dem::Domain domain = section_domain(c, highest_point(bodies) + 0.1);
+  bed.domain = section_domain(c, highest_point(bodies) + 0.1);
 
   // Step 3: deposition with lowered friction inside the container.
   StageSetup deposit;
   deposit.stone_friction = c.preparation.deposition_friction;
   deposit.stone_local_damping = c.preparation.deposition_local_damping;
   deposit.container_walls = true;
-  const Stage deposition = run_stage(c, domain, bodies, deposit, {"deposit", c.preparation.deposition_ratio,
-                                     c.preparation.max_deposition_time, mean_size,
+  const Stage deposition = run_stage(c, bed.domain, bodies, deposit, {"deposit", c.preparation.deposition_ratio,
+                                     c.preparation.max_deposition_time, bed.mean_size,
                                      RestCriterion::kEnergyOnly}, quiet, stage_directory);
   report.time_step = deposition.sim.time_step();
   report.stages.push_back(deposition.report);
 
-  // Step 4: trim to the profile, cut the sleeper's place (tamping_depth shorter and narrower),
-  // put the sleeper in.
-  const dem::RigidBox sleeper = sleeper_box(g);
-  const double tamping_depth = c.preparation.tamping_depth;
-  const dem::RigidBox cut = inset(sleeper, tamping_depth);
+  // Step 4: trim to the profile, cut the sleeper's place (tamping_depth shorter and narrower).
+  const dem::RigidBox cut = inset(sleeper_box(g), c.preparation.tamping_depth);
   const auto deposited = body_states(deposition.sim);
-  std::vector<dem::ClumpSpec> kept;
-  std::vector<StoneRecord> records;
   for (std::size_t k = 0; k < deposited.size(); ++k) {
     const dem::ClumpSpec& s = deposited[k];
     if (s.position.z() > g.surface_height(s.position.x())) continue;
     if (intersects_box(s, cut)) continue;
-    kept.push_back(s);
-    records.push_back(drawn[k].record);
+    bed.stones.push_back(s);
+    bed.records.push_back(drawn[k].record);
   }
-  report.stones_removed = count - static_cast<std::int64_t>(kept.size());
+  report.stones_removed = count - static_cast<std::int64_t>(bed.stones.size());
   // The columns have collapsed: store the kept stones in space order again.
-  const std::vector<dem::Index> order = dem::morton_order(positions_of(kept), mean_size);
-  kept = dem::permuted(kept, order);
-  records = dem::permuted(records, order);
+  const std::vector<dem::Index> order = dem::morton_order(positions_of(bed.stones), bed.mean_size);
+  bed.stones = dem::permuted(bed.stones, order);
+  bed.records = dem::permuted(bed.records, order);
+  bed.sleeper_centre = cut.centre;
+  return bed;
+}
+
+// The stages after the deposition, in the order they run: those the config asks for.
+std::vector<std::string> later_stages(const PushStudyConfig& c) {
+  std::vector<std::string> names;
+  if (c.preparation.expansion_strain > 0.0) names.push_back("expand");
+  if (c.preparation.tamping_depth > 0.0) names.push_back("tamp");
+  if (c.preparation.consolidation_gravity > 1.0) names.push_back("consolidate");
+  names.push_back("settle");
+  return names;
+}
+
+}  // namespace
+
+std::vector<std::string> stopping_points(const PushStudyConfig& c) {
+  std::vector<std::string> names = later_stages(c);
+  names.pop_back();  // the settling ends with the packing itself
+  names.insert(names.begin(), "deposit");
+  return names;
+}
+
+std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationControl& control,
+                                   PreparationReport& report) {
+  const std::size_t first_stage = report.stages.size();
+  const std::vector<std::string> stages = later_stages(c);
+  const std::vector<std::string> points = stopping_points(c);
+  const auto stop_index = static_cast<std::size_t>(std::find(points.begin(), points.end(), control.stop_after) - points.begin());
+  if (!control.stop_after.empty() && stop_index == points.size())
+    throw std::invalid_argument(fmt::format("--stop-after {}: not a stage this config stops after (expected "
+                                            "one of: {})", control.stop_after, fmt::join(points, ", ")));
+  BedBetweenStages bed;
+  std::size_t next = 0;  // into `stages`
+  if (control.resume) {
+    std::string name;
+    bed = load_checkpoint(control.checkpoint, c, report, name);
+    next = static_cast<std::size_t>(std::find(stages.begin(), stages.end(), name) - stages.begin());
+    if (next == stages.size())
+      throw std::runtime_error(fmt::format("{}: next_stage '{}' is not a stage of this config ({})",
+                                           control.checkpoint.string(), name, fmt::join(stages, ", ")));
+    // points[i] is stages[i - 1] for i >= 1: done when i - 1 < next.
+    if (!control.stop_after.empty() && stop_index <= next)
+      throw std::invalid_argument(fmt::format("--stop-after {}: already done in {} (its next stage is '{}')",
+                                              control.stop_after, control.checkpoint.string(), name));
+    if (!control.quiet)
+      fmt::print(stderr, "resuming from {}: {} stones, next stage '{}'\n", control.checkpoint.string(),
+                 bed.stones.size(), name);
+  } else {
+    bed = deposit_and_trim(c, control.quiet, report, control.stage_directory);
+  }
+  const SectionGeometry& g = c.geometry;
+  const dem::RigidBox sleeper = sleeper_box(g);
+  const double tamping_depth = c.preparation.tamping_depth;
+  const dem::RigidBox cut = inset(sleeper, tamping_depth);
+  // After each stage but the last: the checkpoint, and a stop when asked for.
+  const auto done = [&](const std::string& stage, std::size_t following) {
+    if (!control.checkpoint.empty()) {
+      const dem::RigidBox& box = stages[following] == "expand" || stages[following] == "tamp" ? cut : sleeper;
+      save_checkpoint(control.checkpoint, c, bed, box, report, stages[following]);
+    }
+    return control.stop_after == stage;
+  };
+  if (!control.resume && done("deposit", 0)) return std::nullopt;
 
   StageSetup settle;
   settle.stone_friction = c.ballast.friction;
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
-  // Step 4b: radius expansion (grow_stones), when asked for.
-  if (c.preparation.expansion_strain > 0.0) {
-    StageSetup grow = settle;
-    grow.sleeper = cut;  // the sleeper itself when there is no tamping
-    report.stages.push_back(grow_stones(c, domain, grow, mean_size, quiet, kept));
-    settle.sleeper->centre = grow.sleeper->centre;
-  }
-
-  // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
-  // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
-  // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely on
-  // its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
-  if (tamping_depth > 0.0) {
-    StageSetup tamp = settle;
-    tamp.sleeper = cut;
-    tamp.sleeper->centre = settle.sleeper->centre;  // moved by the expansion, if any
-    // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
-    // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
-    // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
-    tamp.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
-    const double duration = c.preparation.tamping_time;
-    // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
-    const StageDrive grow = [&](dem::Simulation& sim, double) {
-      dem::RigidBox& box = sim.mutable_boxes()[0];
-      const double remaining = sleeper.half_extent.x() - box.half_extent.x();
-      const double rate = std::min(tamping_depth / duration, remaining / sim.time_step());
-      box.growth_rate = std::max(0.0, rate) * kTampedAxes;
-    };
-    const Stage tamping = run_stage(c, domain, kept, tamp, {"tamp", c.preparation.equilibrium_ratio, duration,
-                                    mean_size, RestCriterion::kFixedTime}, quiet, stage_directory, grow);
-    report.stages.push_back(tamping.report);
-    kept = body_states(tamping.sim);
-    settle.sleeper->centre = tamping.sim.boxes()[0].centre;  // where it sank to
-  }
-
-  // Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while: the
-  // bed compacts under the heavier sleeper and its own weight, and, settled again at 1 g, keeps
-  // part of the lateral stress (an overconsolidated soil's K exceeds K0). Without it the stones
-  // beside the cut lean on the sleeper with K about 0.1 (standard seed 1, results/push_test).
-  if (c.preparation.consolidation_gravity > 1.0) {
-    StageSetup heavy = settle;
-    heavy.gravity_factor = c.preparation.consolidation_gravity;
-    const Stage consolidation = run_stage(c, domain, kept, heavy, {"consolidate", c.preparation.equilibrium_ratio,
-                                          c.preparation.consolidation_time, mean_size, RestCriterion::kFixedTime},
-                                          quiet, stage_directory);
-    report.stages.push_back(consolidation.report);
-    kept = body_states(consolidation.sim);
-    settle.sleeper->centre = consolidation.sim.boxes()[0].centre;
+  for (; next + 1 < stages.size(); ++next) {
+    const std::string& stage = stages[next];
+    settle.sleeper->centre = bed.sleeper_centre;
+    if (stage == "expand") {
+      // Step 4b: radius expansion (grow_stones).
+      StageSetup grow = settle;
+      grow.sleeper = cut;  // the sleeper itself when there is no tamping
+      grow.sleeper->centre = bed.sleeper_centre;
+      report.stages.push_back(grow_stones(c, bed.domain, grow, bed.mean_size, control.quiet, bed.stones));
+      bed.sleeper_centre = grow.sleeper->centre;
+    } else if (stage == "tamp") {
+      // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
+      // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
+      // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely
+      // on its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
+      StageSetup tamp = settle;
+      tamp.sleeper = cut;
+      tamp.sleeper->centre = bed.sleeper_centre;  // moved by the expansion, if any
+      // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
+      // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
+      // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
+      tamp.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
+      const double duration = c.preparation.tamping_time;
+      // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
+      const StageDrive grow = [&](dem::Simulation& sim, double) {
+        dem::RigidBox& box = sim.mutable_boxes()[0];
+        const double remaining = sleeper.half_extent.x() - box.half_extent.x();
+        const double rate = std::min(tamping_depth / duration, remaining / sim.time_step());
+        box.growth_rate = std::max(0.0, rate) * kTampedAxes;
+      };
+      const Stage tamping = run_stage(c, bed.domain, bed.stones, tamp, {"tamp", c.preparation.equilibrium_ratio,
+                                      duration, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
+                                      control.stage_directory, grow);
+      report.stages.push_back(tamping.report);
+      bed.stones = body_states(tamping.sim);
+      bed.sleeper_centre = tamping.sim.boxes()[0].centre;  // where it sank to
+    } else if (stage == "consolidate") {
+      // Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while:
+      // the bed compacts under the heavier sleeper and its own weight, and, settled again at
+      // 1 g, keeps part of the lateral stress (an overconsolidated soil's K exceeds K0). Without
+      // it the stones beside the cut lean on the sleeper with K about 0.1 (standard seed 1).
+      StageSetup heavy = settle;
+      heavy.gravity_factor = c.preparation.consolidation_gravity;
+      const Stage consolidation = run_stage(c, bed.domain, bed.stones, heavy,
+                                            {"consolidate", c.preparation.equilibrium_ratio,
+                                             c.preparation.consolidation_time, bed.mean_size,
+                                             RestCriterion::kFixedTime}, control.quiet, control.stage_directory);
+      report.stages.push_back(consolidation.report);
+      bed.stones = body_states(consolidation.sim);
+      bed.sleeper_centre = consolidation.sim.boxes()[0].centre;
+    }
+    if (done(stage, next + 1)) return std::nullopt;
   }
 
   // Step 6: settle with the design friction, the sleeper free to sink onto the bed.
-  const Stage settling = run_stage(c, domain, kept, settle, {"settle", c.preparation.equilibrium_ratio,
-                                   c.preparation.max_settling_time, mean_size,
-                                   RestCriterion::kForcesAndEnergy}, quiet, stage_directory);
+  settle.sleeper->centre = bed.sleeper_centre;
+  const Stage settling = run_stage(c, bed.domain, bed.stones, settle, {"settle", c.preparation.equilibrium_ratio,
+                                   c.preparation.max_settling_time, bed.mean_size,
+                                   RestCriterion::kForcesAndEnergy}, control.quiet, control.stage_directory);
   report.stages.push_back(settling.report);
 
   Packing p;
   p.config = c;
-  p.stones = std::move(records);
+  p.stones = std::move(bed.records);
   p.bodies = body_states(settling.sim);
   p.sleeper = settling.sim.boxes()[0];
   p.sleeper.velocity = dem::Vec3::Zero();
-  p.domain = domain;
+  p.domain = bed.domain;
   // Every stage starts its clock at zero: the preparation lasted the sum of the stages' times.
   p.preparation_time = 0.0;
   for (std::size_t k = first_stage; k < report.stages.size(); ++k) p.preparation_time += report.stages[k].simulated_time;
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   p.springs = settling.sim.contact_springs();
   return p;
+}
+
+Packing prepare_bed(const PushStudyConfig& c, bool quiet, PreparationReport& report,
+                    const std::filesystem::path& stage_directory) {
+  PreparationControl control;
+  control.quiet = quiet;
+  control.stage_directory = stage_directory;
+  return *prepare_bed(c, control, report);
 }
 
 }  // namespace mfdem::railway

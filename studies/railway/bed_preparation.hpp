@@ -46,24 +46,42 @@
 //    sleeper (released: free across the track and vertically) settle under gravity until at
 //    rest to `equilibrium_ratio`, or at `max_settling_time` (then the report says "settled NO"
 //    and the command warns).
+// After every stage but the last the bed can be saved and the preparation stopped, and resumed
+// later (PreparationControl, preparation_checkpoint.hpp).
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "studies/railway/packing.hpp"
+#include "studies/railway/preparation_checkpoint.hpp"
 #include "studies/railway/stage_runner.hpp"
 
 namespace mfdem::railway {
 
-struct PreparationReport {
-  std::int64_t stones_generated = 0;
-  std::int64_t stones_removed = 0;
-  double time_step = 0.0;          // s
-  std::vector<StageReport> stages;
+// How a preparation runs besides its config.
+struct PreparationControl {
+  bool quiet = false;
+  // With it, each stage's states go to deposit.h5, settle.h5, ... (+ .xdmf) there.
+  std::filesystem::path stage_directory;
+  // With it, the bed is saved there after every stage but the last (preparation_checkpoint.hpp).
+  std::filesystem::path checkpoint;
+  bool resume = false;      // start from `checkpoint`, at the stage after the last one it holds
+  std::string stop_after;   // a stage (stopping_points): stop once it and its checkpoint are done
 };
 
-// Throws std::invalid_argument for geometry that cannot be built (railway::validate), and
-// dem::StabilityError when a stage becomes unstable.
-// With `stage_directory`, each stage's states go to deposit.h5 and settle.h5 (+ .xdmf) there.
+// The stages a preparation with this config can stop after: "deposit", then those of expand,
+// tamp and consolidate it runs (not the settling, which ends with the packing).
+std::vector<std::string> stopping_points(const PushStudyConfig& config);
+
+// The packing, or none when stopped by `control.stop_after`. Throws std::invalid_argument for
+// geometry that cannot be built (railway::validate) or a stop_after that is not a stage of it,
+// std::runtime_error for a checkpoint that cannot be resumed (named), and dem::StabilityError
+// when a stage becomes unstable. A resumed preparation is bitwise the uninterrupted one.
+std::optional<Packing> prepare_bed(const PushStudyConfig& config, const PreparationControl& control,
+                                   PreparationReport& report);
+
+// The whole preparation in one go, without checkpoints.
 Packing prepare_bed(const PushStudyConfig& config, bool quiet, PreparationReport& report,
                     const std::filesystem::path& stage_directory = {});
 

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <utility>
 
 #include "dem/hdf5_io.hpp"
 #include "dem/state_file.hpp"
@@ -142,12 +144,15 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("cannot reopen " + path.string());
   const hid_t all = dem::h5::make_group(file, "packing/stages");
-  for (const auto& s : stages) {
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const StageReport& s = stages[k];
     const hid_t g = dem::h5::make_group(all, s.name.c_str());
     dem::h5::write_attribute(g, "simulated_time", s.simulated_time);
     dem::h5::write_attribute(g, "steps", static_cast<double>(s.steps));
     dem::h5::write_attribute(g, "settled", s.settled ? 1.0 : 0.0);
     dem::h5::write_attribute(g, "wall_seconds", s.wall_seconds);
+    dem::h5::write_attribute(g, "end_unbalanced_force_ratio", s.unbalanced_force_ratio);
+    dem::h5::write_attribute(g, "order", static_cast<double>(k));
     if (s.sleeper_base) dem::h5::write_attribute(g, "sleeper_base", *s.sleeper_base);
     dem::h5::write_doubles(g, "time", s.check_time);
     dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
@@ -156,6 +161,46 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
   }
   H5Gclose(all);
   H5Fclose(file);
+}
+
+std::vector<StageReport> read_stage_reports(const std::filesystem::path& path) {
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error(fmt::format("{}: cannot open it as an HDF5 file", path.string()));
+  std::vector<std::pair<double, StageReport>> ordered;
+  if (H5Lexists(file, "packing", H5P_DEFAULT) > 0 && H5Lexists(file, "packing/stages", H5P_DEFAULT) > 0) {
+    const hid_t all = H5Gopen2(file, "packing/stages", H5P_DEFAULT);
+    H5G_info_t info;
+    H5Gget_info(all, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+      std::string name(H5Lget_name_by_idx(all, ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT), '\0');
+      H5Lget_name_by_idx(all, ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1, H5P_DEFAULT);
+      const hid_t g = H5Gopen2(all, name.c_str(), H5P_DEFAULT);
+      using dem::h5::read_attribute;
+      const auto has = [g](const char* key) { return H5Aexists(g, key) > 0; };
+      StageReport s;
+      s.name = name;
+      s.simulated_time = read_attribute(g, "simulated_time");
+      s.steps = static_cast<std::int64_t>(read_attribute(g, "steps"));
+      s.settled = read_attribute(g, "settled") != 0.0;
+      s.wall_seconds = read_attribute(g, "wall_seconds");
+      if (has("sleeper_base")) s.sleeper_base = read_attribute(g, "sleeper_base");
+      s.check_time = dem::h5::read_doubles(g, "time");
+      s.check_force_ratio = dem::h5::read_doubles(g, "unbalanced_force_ratio");
+      s.check_kinetic_ratio = dem::h5::read_doubles(g, "kinetic_ratio");
+      s.unbalanced_force_ratio = has("end_unbalanced_force_ratio") ? read_attribute(g, "end_unbalanced_force_ratio")
+                                 : s.check_force_ratio.empty() ? 0.0 : s.check_force_ratio.back();
+      // The stages ran in `order`; files from before it was written list them by name.
+      const double order = has("order") ? read_attribute(g, "order") : static_cast<double>(k);
+      H5Gclose(g);
+      ordered.emplace_back(order, std::move(s));
+    }
+    H5Gclose(all);
+  }
+  H5Fclose(file);
+  std::stable_sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<StageReport> stages;
+  for (auto& [order, s] : ordered) stages.push_back(std::move(s));
+  return stages;
 }
 
 Packing load_packing(const std::filesystem::path& path) {

@@ -19,7 +19,9 @@
 //                           hold it. Packings written before they were kept have no group and
 //                           start from unloaded springs.
 //   /packing/stages/NAME/   of each preparation stage (written by append_stage_reports): attrs
-//                           simulated_time, steps, settled (1/0), wall_seconds; at each
+//                           simulated_time, steps, settled (1/0), wall_seconds,
+//                           end_unbalanced_force_ratio, order (0, 1, ...: the order they ran,
+//                           as HDF5 lists groups by name), sleeper_base (m, once placed); at each
 //                           equilibrium check [n]: time (s since the stage began),
 //                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d).
 // Every number is stored as the double the solver held, so a push from the file is bitwise the
@@ -60,6 +62,8 @@ std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim);
 void save_packing(const std::filesystem::path& path, const Packing& packing);
 // Adds the preparation stages' reports to a saved packing (/packing/stages).
 void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages);
+// The stage reports of a saved packing, in the order they ran (none for an older packing).
+std::vector<StageReport> read_stage_reports(const std::filesystem::path& path);
 // Throws std::runtime_error naming the file and what is missing.
 Packing load_packing(const std::filesystem::path& path);
 

@@ -28,6 +28,12 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
   const auto preset = run_mfdem({"pack", "maxi", "--out", out, "-q"});
   CHECK(preset.status == 1);
   CHECK_THAT(preset.err, Catch::Contains("maxi") && Catch::Contains("mini, standard and paper"));
+  const auto stop = run_mfdem({"pack", "mini", "--stop-after", "settle", "--out", out, "-q"});
+  CHECK(stop.status == 1);
+  CHECK_THAT(stop.err, Catch::Contains("--stop-after settle") && Catch::Contains("expected one of: deposit"));
+  const auto resume = run_mfdem({"pack", "mini", "--resume", "--out", out, "-q"});
+  CHECK(resume.status == 1);
+  CHECK_THAT(resume.err, Catch::Contains("checkpoint.h5") && Catch::Contains("no checkpoint to resume from"));
   const auto velocity = run_mfdem({"push", out, "--velocity", "-5"});
   CHECK(velocity.status == 2);
   CHECK_THAT(velocity.err, Catch::Contains("--velocity"));
@@ -44,6 +50,7 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
   const auto pack = run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"});
   REQUIRE(pack.status == 0);
   CHECK_THAT(pack.out, Catch::Contains("Packed bed: tiny (seed 7)"));
+  CHECK_FALSE(std::filesystem::exists(bed + "/checkpoint.h5"));  // removed once the packing is written
   {  // The packing keeps how each stage came to rest: a check every 2 ms of simulated time
      // (stage_runner.hpp), the last within one interval of the stage's end.
     const hid_t file = H5Fopen((bed + "/packing.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
