@@ -115,23 +115,24 @@ std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
   return x;
 }
 
-// Step 4b, radius expansion: grows `stones` back to their drawn size in equal factors, the bed
-// moving for an equal time after each (each a solver run of its own: radii are fixed within a
-// run; contact springs restart and reload within micrometres of slip). Moves `setup.sleeper`
-// to where the bed carried it.
-StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, StageSetup& setup, double mean_size,
-                        bool quiet, std::vector<dem::ClumpSpec>& stones) {
+// Step 4b, radius expansion: grows the stones back to their drawn size in equal factors, the
+// bed moving for an equal time after each (each a solver run of its own: radii are fixed within
+// a run; contact springs restart and reload within micrometres of slip), the sleeper's tamping
+// cut (the sleeper itself without tamping) in place.
+StageReport expand(const PushStudyConfig& c, const StageSetup& settle, bool quiet, BedBetweenStages& bed) {
+  StageSetup grow = settle;
+  grow.sleeper = inset(*settle.sleeper, c.preparation.tamping_depth);
   const int steps = c.preparation.expansion_steps;
   const double factor = std::pow(1.0 + c.preparation.expansion_strain, 1.0 / steps);
   StageReport total;
   total.name = "expand";
   for (int k = 0; k < steps; ++k) {
-    for (auto& s : stones) s = scaled(s, factor);
-    const Stage step = run_stage(c, domain, stones, setup, {"expand", c.preparation.equilibrium_ratio,
-                                 c.preparation.expansion_time / steps, mean_size, RestCriterion::kFixedTime},
+    for (auto& s : bed.stones) s = scaled(s, factor);
+    const Stage step = run_stage(c, bed.domain, bed.stones, grow, {"expand", c.preparation.equilibrium_ratio,
+                                 c.preparation.expansion_time / steps, bed.mean_size, RestCriterion::kFixedTime},
                                  true, {});
-    stones = body_states(step.sim);
-    setup.sleeper->centre = step.sim.boxes()[0].centre;
+    bed.stones = body_states(step.sim);
+    grow.sleeper->centre = step.sim.boxes()[0].centre;
     total.simulated_time += step.report.simulated_time;
     total.steps += step.report.steps;
     total.wall_seconds += step.report.wall_seconds;
@@ -141,8 +142,56 @@ StageReport grow_stones(const PushStudyConfig& c, const dem::Domain& domain, Sta
       fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
                  steps, *total.sleeper_base, total.unbalanced_force_ratio);
   }
+  bed.sleeper_centre = grow.sleeper->centre;
   total.settled = true;  // a set duration
   return total;
+}
+
+// Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
+// stones beside them into the cribs and shoulders by up to tamping_depth. Without it the sleeper
+// stands in a hole up to a stone's size too large and the crib stones lean loosely on its sides
+// (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
+StageReport tamp(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
+                 BedBetweenStages& bed) {
+  const dem::RigidBox full = *settle.sleeper;
+  const double depth = c.preparation.tamping_depth;
+  StageSetup setup = settle;
+  setup.sleeper = inset(full, depth);
+  // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
+  // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
+  // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
+  setup.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
+  const double duration = c.preparation.tamping_time;
+  // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
+  const StageDrive grow = [&](dem::Simulation& sim, double) {
+    dem::RigidBox& box = sim.mutable_boxes()[0];
+    const double remaining = full.half_extent.x() - box.half_extent.x();
+    const double rate = std::min(depth / duration, remaining / sim.time_step());
+    box.growth_rate = std::max(0.0, rate) * kTampedAxes;
+  };
+  const Stage tamping = run_stage(c, bed.domain, bed.stones, setup, {"tamp", c.preparation.equilibrium_ratio,
+                                  duration, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
+                                  control.stage_directory, grow);
+  bed.stones = body_states(tamping.sim);
+  bed.sleeper_centre = tamping.sim.boxes()[0].centre;  // where it sank to
+  return tamping.report;
+}
+
+// Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while: the
+// bed compacts under the heavier sleeper and its own weight, and, settled again at 1 g, keeps
+// part of the lateral stress (an overconsolidated soil's K exceeds K0). Without it the stones
+// beside the cut lean on the sleeper with K about 0.1 (standard seed 1, results/push_test).
+StageReport consolidate(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
+                        BedBetweenStages& bed) {
+  StageSetup heavy = settle;
+  heavy.gravity_factor = c.preparation.consolidation_gravity;
+  const Stage consolidation = run_stage(c, bed.domain, bed.stones, heavy,
+                                        {"consolidate", c.preparation.equilibrium_ratio,
+                                         c.preparation.consolidation_time, bed.mean_size, RestCriterion::kFixedTime},
+                                        control.quiet, control.stage_directory);
+  bed.stones = body_states(consolidation.sim);
+  bed.sleeper_centre = consolidation.sim.boxes()[0].centre;
+  return consolidation.report;
 }
 
 // Steps 1-4: draws the stones, deposits them, trims the bed to the profile and cuts the
@@ -252,20 +301,19 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   } else {
     bed = deposit_and_trim(c, control.quiet, report, control.stage_directory);
   }
-  const SectionGeometry& g = c.geometry;
-  const dem::RigidBox sleeper = sleeper_box(g);
-  const double tamping_depth = c.preparation.tamping_depth;
-  const dem::RigidBox cut = inset(sleeper, tamping_depth);
+  const dem::RigidBox sleeper = sleeper_box(c.geometry);
   // After each stage but the last: the checkpoint, and a stop when asked for.
   const auto done = [&](const std::string& stage, std::size_t following) {
     if (!control.checkpoint.empty()) {
-      const dem::RigidBox& box = stages[following] == "expand" || stages[following] == "tamp" ? cut : sleeper;
+      const bool cut = stages[following] == "expand" || stages[following] == "tamp";
+      const dem::RigidBox box = cut ? inset(sleeper, c.preparation.tamping_depth) : sleeper;
       save_checkpoint(control.checkpoint, c, bed, box, report, stages[following]);
     }
     return control.stop_after == stage;
   };
   if (!control.resume && done("deposit", 0)) return std::nullopt;
 
+  // The design friction and local damping, the sleeper free across the track and vertically.
   StageSetup settle;
   settle.stone_friction = c.ballast.friction;
   settle.stone_local_damping = c.preparation.local_damping;
@@ -273,54 +321,9 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   for (; next + 1 < stages.size(); ++next) {
     const std::string& stage = stages[next];
     settle.sleeper->centre = bed.sleeper_centre;
-    if (stage == "expand") {
-      // Step 4b: radius expansion (grow_stones).
-      StageSetup grow = settle;
-      grow.sleeper = cut;  // the sleeper itself when there is no tamping
-      grow.sleeper->centre = bed.sleeper_centre;
-      report.stages.push_back(grow_stones(c, bed.domain, grow, bed.mean_size, control.quiet, bed.stones));
-      bed.sleeper_centre = grow.sleeper->centre;
-    } else if (stage == "tamp") {
-      // Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
-      // stones beside them into the cribs and shoulders by up to tamping_depth. Without it the
-      // sleeper stands in a hole up to a stone's size too large and the crib stones lean loosely
-      // on its sides (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
-      StageSetup tamp = settle;
-      tamp.sleeper = cut;
-      tamp.sleeper->centre = bed.sleeper_centre;  // moved by the expansion, if any
-      // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
-      // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
-      // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
-      tamp.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
-      const double duration = c.preparation.tamping_time;
-      // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
-      const StageDrive grow = [&](dem::Simulation& sim, double) {
-        dem::RigidBox& box = sim.mutable_boxes()[0];
-        const double remaining = sleeper.half_extent.x() - box.half_extent.x();
-        const double rate = std::min(tamping_depth / duration, remaining / sim.time_step());
-        box.growth_rate = std::max(0.0, rate) * kTampedAxes;
-      };
-      const Stage tamping = run_stage(c, bed.domain, bed.stones, tamp, {"tamp", c.preparation.equilibrium_ratio,
-                                      duration, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
-                                      control.stage_directory, grow);
-      report.stages.push_back(tamping.report);
-      bed.stones = body_states(tamping.sim);
-      bed.sleeper_centre = tamping.sim.boxes()[0].centre;  // where it sank to
-    } else if (stage == "consolidate") {
-      // Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while:
-      // the bed compacts under the heavier sleeper and its own weight, and, settled again at
-      // 1 g, keeps part of the lateral stress (an overconsolidated soil's K exceeds K0). Without
-      // it the stones beside the cut lean on the sleeper with K about 0.1 (standard seed 1).
-      StageSetup heavy = settle;
-      heavy.gravity_factor = c.preparation.consolidation_gravity;
-      const Stage consolidation = run_stage(c, bed.domain, bed.stones, heavy,
-                                            {"consolidate", c.preparation.equilibrium_ratio,
-                                             c.preparation.consolidation_time, bed.mean_size,
-                                             RestCriterion::kFixedTime}, control.quiet, control.stage_directory);
-      report.stages.push_back(consolidation.report);
-      bed.stones = body_states(consolidation.sim);
-      bed.sleeper_centre = consolidation.sim.boxes()[0].centre;
-    }
+    if (stage == "expand") report.stages.push_back(expand(c, settle, control.quiet, bed));
+    if (stage == "tamp") report.stages.push_back(tamp(c, settle, control, bed));
+    if (stage == "consolidate") report.stages.push_back(consolidate(c, settle, control, bed));
     if (done(stage, next + 1)) return std::nullopt;
   }
 
