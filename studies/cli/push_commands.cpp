@@ -151,15 +151,20 @@ void add_push_commands(CLI::App& app, Action& action) {
   add_common_options(*pack_command, pack_options->common);
   pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
                        "After every stage the bed is saved to OUT/checkpoint.h5 (removed once the packing is\n"
-                       "written): a pack stopped by --stop-after, killed or unstable goes on with --resume.\n"
+                       "written): a pack stopped by --stop-after or killed goes on with --resume; an\n"
+                       "unstable stage leaves the last good stage's bed there.\n"
                        "The procedure is described in studies/presets/README.md.");
   pack_command->callback([pack_options, &action] {
     action = [pack_options] {
       apply_thread_count(pack_options->common);
-      return guarded([&] {
+      const int status = guarded([&] {
         pack(*pack_options);
         return 0;
       });
+      const fs::path checkpoint = pack_options->common.out / "checkpoint.h5";
+      if (status == kUnstable && fs::exists(checkpoint))
+        fmt::print(std::cerr, "mfdem: the bed after the last finished stage is in {}\n", checkpoint.string());
+      return status;
     };
   });
 
