@@ -11,6 +11,7 @@
 #include "dem/spatial_order.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/railway/stone_columns.hpp"
+#include "studies/scene/progress.hpp"
 
 namespace mfdem::railway {
 namespace {
@@ -264,6 +265,30 @@ std::vector<std::string> later_stages(const PushStudyConfig& c) {
   return names;
 }
 
+// The longest a later stage runs, s simulated.
+double max_time_of(const PushStudyConfig& c, const std::string& stage) {
+  if (stage == "expand") return c.preparation.expansion_time;
+  if (stage == "tamp") return c.preparation.tamping_time;
+  if (stage == "consolidate") return c.preparation.consolidation_time;
+  return c.preparation.max_settling_time;
+}
+
+// After a stage: what is left and about how long it takes, at the finished stage's cost per
+// body and step (every stage has the deposition's time step). A paper-size pack runs for hours.
+void print_remaining(const PushStudyConfig& c, const std::vector<std::string>& stages, std::size_t next,
+                     const PreparationReport& report, std::size_t bodies_before, std::size_t bodies_after) {
+  const StageReport& last = report.stages.back();
+  double time = 0.0;
+  for (std::size_t k = next; k < stages.size(); ++k) time += max_time_of(c, stages[k]);
+  const auto steps = static_cast<double>(std::llround(time / report.time_step));
+  const double per_step = last.wall_seconds / std::max<double>(1.0, static_cast<double>(last.steps)) *
+                          static_cast<double>(bodies_after) / static_cast<double>(std::max<std::size_t>(1, bodies_before));
+  std::vector<std::string> left(stages.begin() + static_cast<std::ptrdiff_t>(next), stages.end());
+  fmt::print(stderr, "pack: {} done in {}; left: {}, at most {:.3g} s simulated ({:.0f} steps), at most about {} at its speed\n",
+             last.name, scene::format_duration(last.wall_seconds), fmt::join(left, ", "), time, steps,
+             scene::format_duration(per_step * steps));
+}
+
 }  // namespace
 
 std::vector<std::string> stopping_points(const PushStudyConfig& c) {
@@ -311,7 +336,11 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     }
     return control.stop_after == stage;
   };
-  if (!control.resume && done("deposit", 0)) return std::nullopt;
+  if (!control.resume) {
+    if (!control.quiet)
+      print_remaining(c, stages, 0, report, static_cast<std::size_t>(report.stones_generated), bed.stones.size());
+    if (done("deposit", 0)) return std::nullopt;
+  }
 
   // The design friction and local damping, the sleeper free across the track and vertically.
   StageSetup settle;
@@ -324,6 +353,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     if (stage == "expand") report.stages.push_back(expand(c, settle, control.quiet, bed));
     if (stage == "tamp") report.stages.push_back(tamp(c, settle, control, bed));
     if (stage == "consolidate") report.stages.push_back(consolidate(c, settle, control, bed));
+    if (!control.quiet) print_remaining(c, stages, next + 1, report, bed.stones.size(), bed.stones.size());
     if (done(stage, next + 1)) return std::nullopt;
   }
 
