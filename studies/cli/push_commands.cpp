@@ -26,6 +26,7 @@ struct PackOptions {
   bool keep_stages = false;
   bool resume = false;
   std::string stop_after;
+  std::string deposit_from;
 };
 
 struct PushOptions {
@@ -65,6 +66,13 @@ std::optional<fs::path> pack(const PackOptions& o) {
   control.checkpoint = o.common.out / "checkpoint.h5";
   control.resume = o.resume;
   control.stop_after = o.stop_after;
+  if (!o.deposit_from.empty()) {
+    const fs::path from = o.deposit_from;
+    control.deposit_from = fs::is_directory(from) ? from / "checkpoint.h5" : from;
+    if (fs::exists(control.deposit_from) && fs::equivalent(control.deposit_from, control.checkpoint))
+      throw std::runtime_error(fmt::format("--deposit-from {} is this run's own checkpoint, which its stages "
+                                           "overwrite; give another --out", control.deposit_from.string()));
+  }
   railway::PreparationReport report;
   const std::optional<railway::Packing> packing = railway::prepare_bed(config, control, report);
   if (!packing) {
@@ -142,9 +150,14 @@ void add_push_commands(CLI::App& app, Action& action) {
                            "A preset (mini, standard, paper) or a study config file (TOML)")->required();
   pack_command->add_flag("--keep-stages", pack_options->keep_stages,
                          "Also write the deposition and settling stages (OUT/deposit.h5, settle.h5, + .xdmf)");
-  pack_command->add_flag("--resume", pack_options->resume,
+  CLI::Option* resume_flag = pack_command->add_flag("--resume", pack_options->resume,
                          "Go on from OUT/checkpoint.h5, left by a stopped or interrupted pack with the same "
                          "config and seed");
+  pack_command->add_option("--deposit-from", pack_options->deposit_from,
+                           "Start from this deposited bed (the checkpoint.h5, or its directory, of a pack stopped "
+                           "with --stop-after deposit), made with this config but for tamping, consolidation and "
+                           "settling keys")
+      ->excludes(resume_flag);
   pack_command->add_option("--stop-after", pack_options->stop_after,
                            "Stop after this stage (deposit, expand, tamp, consolidate: those the config runs), "
                            "its checkpoint written; go on later with --resume");

@@ -195,9 +195,17 @@ StageReport consolidate(const PushStudyConfig& c, const StageSetup& settle, cons
   return consolidation.report;
 }
 
-// Steps 1-4: draws the stones, deposits them, trims the bed to the profile and cuts the
-// sleeper's place.
-BedBetweenStages deposit_and_trim(const PushStudyConfig& c, bool quiet, PreparationReport& report,
+// Between the floor and container walls at the shoulder toes, with lowered stone friction.
+StageSetup deposition_setup(const PushStudyConfig& c) {
+  StageSetup deposit;
+  deposit.stone_friction = c.preparation.deposition_friction;
+  deposit.stone_local_damping = c.preparation.deposition_local_damping;
+  deposit.container_walls = true;
+  return deposit;
+}
+
+// Steps 1-3: draws the stones and deposits them.
+BedBetweenStages deposit(const PushStudyConfig& c, bool quiet, PreparationReport& report,
                                   const std::filesystem::path& stage_directory) {
   const SectionGeometry& g = c.geometry;
   const StoneFactory factory(c);
@@ -226,33 +234,37 @@ BedBetweenStages deposit_and_trim(const PushStudyConfig& c, bool quiet, Preparat
   bed.domain = section_domain(c, highest_point(bodies) + 0.1);
 
   // Step 3: deposition with lowered friction inside the container.
-  StageSetup deposit;
-  deposit.stone_friction = c.preparation.deposition_friction;
-  deposit.stone_local_damping = c.preparation.deposition_local_damping;
-  deposit.container_walls = true;
-  const Stage deposition = run_stage(c, bed.domain, bodies, deposit, {"deposit", c.preparation.deposition_ratio,
-                                     c.preparation.max_deposition_time, bed.mean_size,
-                                     RestCriterion::kEnergyOnly}, quiet, stage_directory);
+  const Stage deposition = run_stage(c, bed.domain, bodies, deposition_setup(c),
+                                     {"deposit", c.preparation.deposition_ratio, c.preparation.max_deposition_time,
+                                      bed.mean_size, RestCriterion::kEnergyOnly}, quiet, stage_directory);
   report.time_step = deposition.sim.time_step();
   report.stages.push_back(deposition.report);
+  bed.stones = body_states(deposition.sim);
+  for (const auto& s : drawn) bed.records.push_back(s.record);
+  bed.sleeper_centre = sleeper_box(g).centre;
+  return bed;
+}
 
-  // Step 4: trim to the profile, cut the sleeper's place (tamping_depth shorter and narrower).
+// Step 4: trims the deposited bed to the profile and cuts the sleeper's place (tamping_depth
+// shorter and narrower).
+void trim(const PushStudyConfig& c, BedBetweenStages& bed, PreparationReport& report) {
+  const SectionGeometry& g = c.geometry;
   const dem::RigidBox cut = inset(sleeper_box(g), c.preparation.tamping_depth);
-  const auto deposited = body_states(deposition.sim);
-  for (std::size_t k = 0; k < deposited.size(); ++k) {
-    const dem::ClumpSpec& s = deposited[k];
+  std::vector<dem::ClumpSpec> kept;
+  std::vector<StoneRecord> records;
+  for (std::size_t k = 0; k < bed.stones.size(); ++k) {
+    const dem::ClumpSpec& s = bed.stones[k];
     if (s.position.z() > g.surface_height(s.position.x())) continue;
     if (intersects_box(s, cut)) continue;
-    bed.stones.push_back(s);
-    bed.records.push_back(drawn[k].record);
+    kept.push_back(s);
+    records.push_back(bed.records[k]);
   }
-  report.stones_removed = count - static_cast<std::int64_t>(bed.stones.size());
+  report.stones_removed = report.stones_generated - static_cast<std::int64_t>(kept.size());
   // The columns have collapsed: store the kept stones in space order again.
-  const std::vector<dem::Index> order = dem::morton_order(positions_of(bed.stones), bed.mean_size);
-  bed.stones = dem::permuted(bed.stones, order);
-  bed.records = dem::permuted(bed.records, order);
-  bed.sleeper_centre = cut.centre;
-  return bed;
+  const std::vector<dem::Index> order = dem::morton_order(positions_of(kept), bed.mean_size);
+  bed.stones = dem::permuted(kept, order);
+  bed.records = dem::permuted(records, order);
+  bed.trimmed = true;
 }
 
 // The stages after the deposition, in the order they run: those the config asks for.
@@ -307,39 +319,47 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   if (!control.stop_after.empty() && stop_index == points.size())
     throw std::invalid_argument(fmt::format("--stop-after {}: not a stage this config stops after (expected "
                                             "one of: {})", control.stop_after, fmt::join(points, ", ")));
-  BedBetweenStages bed;
-  std::size_t next = 0;  // into `stages`
-  if (control.resume) {
-    std::string name;
-    bed = load_checkpoint(control.checkpoint, c, report, name);
-    next = static_cast<std::size_t>(std::find(stages.begin(), stages.end(), name) - stages.begin());
-    if (next == stages.size())
-      throw std::runtime_error(fmt::format("{}: next_stage '{}' is not a stage of this config ({})",
-                                           control.checkpoint.string(), name, fmt::join(stages, ", ")));
-    // points[i] is stages[i - 1] for i >= 1: done when i - 1 < next.
-    if (!control.stop_after.empty() && stop_index <= next)
-      throw std::invalid_argument(fmt::format("--stop-after {}: already done in {} (its next stage is '{}')",
-                                              control.stop_after, control.checkpoint.string(), name));
-    if (!control.quiet)
-      fmt::print(stderr, "resuming from {}: {} stones, next stage '{}'\n", control.checkpoint.string(),
-                 bed.stones.size(), name);
-  } else {
-    bed = deposit_and_trim(c, control.quiet, report, control.stage_directory);
-  }
   const dem::RigidBox sleeper = sleeper_box(c.geometry);
+  BedBetweenStages bed;
   // After each stage but the last: the checkpoint, and a stop when asked for.
-  const auto done = [&](const std::string& stage, std::size_t following) {
+  const auto done = [&](const std::string& stage, const std::string& following) {
     if (!control.checkpoint.empty()) {
-      const bool cut = stages[following] == "expand" || stages[following] == "tamp";
-      const dem::RigidBox box = cut ? inset(sleeper, c.preparation.tamping_depth) : sleeper;
-      save_checkpoint(control.checkpoint, c, bed, box, report, stages[following]);
+      StageSetup setup = deposition_setup(c);  // the deposited bed's boundaries
+      if (bed.trimmed) {
+        setup = {};
+        const bool cut = following == "expand" || following == "tamp";
+        setup.sleeper = cut ? inset(sleeper, c.preparation.tamping_depth) : sleeper;
+      }
+      save_checkpoint(control.checkpoint, c, bed, setup, report, following);
     }
     return control.stop_after == stage;
   };
-  if (!control.resume) {
+  std::size_t next = 0;  // into `stages`
+  const bool reuse = !control.deposit_from.empty();
+  if (control.resume || reuse) {
+    const std::filesystem::path& from = reuse ? control.deposit_from : control.checkpoint;
+    std::string name;
+    bed = load_checkpoint(from, c, reuse ? CheckpointUse::kDeposit : CheckpointUse::kResume, report, name);
+    if (reuse) name = stages.front();  // this config's own stages follow the deposition
+    next = static_cast<std::size_t>(std::find(stages.begin(), stages.end(), name) - stages.begin());
+    if (next == stages.size())
+      throw std::runtime_error(fmt::format("{}: next_stage '{}' is not a stage of this config ({})", from.string(),
+                                           name, fmt::join(stages, ", ")));
+    // points[i] is stages[i - 1] for i >= 1: done when i - 1 < next.
+    if (!control.stop_after.empty() && stop_index <= next)
+      throw std::invalid_argument(fmt::format("--stop-after {}: already done in {} (its next stage is '{}')",
+                                              control.stop_after, from.string(), name));
     if (!control.quiet)
+      fmt::print(stderr, "{} {}: {} stones, next stage '{}'\n", reuse ? "deposited bed from" : "resuming from",
+                 from.string(), bed.stones.size(), name);
+  } else {
+    bed = deposit(c, control.quiet, report, control.stage_directory);
+    if (done("deposit", stages.front())) return std::nullopt;
+  }
+  if (!bed.trimmed) {
+    trim(c, bed, report);
+    if (!control.quiet && next == 0)
       print_remaining(c, stages, 0, report, static_cast<std::size_t>(report.stones_generated), bed.stones.size());
-    if (done("deposit", 0)) return std::nullopt;
   }
 
   // The design friction and local damping, the sleeper free across the track and vertically.
@@ -354,7 +374,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     if (stage == "tamp") report.stages.push_back(tamp(c, settle, control, bed));
     if (stage == "consolidate") report.stages.push_back(consolidate(c, settle, control, bed));
     if (!control.quiet) print_remaining(c, stages, next + 1, report, bed.stones.size(), bed.stones.size());
-    if (done(stage, next + 1)) return std::nullopt;
+    if (done(stage, stages[next + 1])) return std::nullopt;
   }
 
   // Step 6: settle with the design friction, the sleeper free to sink onto the bed.

@@ -67,6 +67,9 @@ struct PreparationControl {
   // With it, the bed is saved there after every stage but the last (preparation_checkpoint.hpp).
   std::filesystem::path checkpoint;
   bool resume = false;      // start from `checkpoint`, at the stage after the last one it holds
+  // With it, start from this deposited bed (a checkpoint saved after the deposition, made with
+  // this config but for the keys that act later), then trim and run this config's stages.
+  std::filesystem::path deposit_from;
   std::string stop_after;   // a stage (stopping_points): stop once it and its checkpoint are done
 };
 

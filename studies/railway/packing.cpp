@@ -102,11 +102,16 @@ std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim) {
 void save_packing(const std::filesystem::path& path, const Packing& p) {
   StageSetup setup;
   setup.sleeper = p.sleeper;
+  save_packing(path, p, setup, "prepared ballast bed");
+}
+
+void save_packing(const std::filesystem::path& path, const Packing& p, const StageSetup& setup,
+                  const std::string& what) {
   dem::Simulation sim = make_section_simulation(p.config, p.domain, p.bodies, setup);
   sim.set_initial_springs(p.springs);
   sim.prepare();  // evaluates the contact forces the frame holds; the bodies do not move
   {
-    dem::StateFile file(path, sim, fmt::format("prepared ballast bed, {} (seed {})", p.config.name, p.config.seed));
+    dem::StateFile file(path, sim, fmt::format("{}, {} (seed {})", what, p.config.name, p.config.seed));
     file.write_frame(sim);
   }
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);

@@ -28,10 +28,12 @@
 // push from memory.
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "dem/simulation.hpp"
 #include "studies/railway/push_config.hpp"
+#include "studies/railway/section_simulation.hpp"
 #include "studies/railway/stage_runner.hpp"
 
 namespace mfdem::railway {
@@ -60,6 +62,10 @@ std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim);
 
 // Writes `path` (and path.xdmf).
 void save_packing(const std::filesystem::path& path, const Packing& packing);
+// The same, the frame's contact forces evaluated with the boundaries of `setup` (the bed of a
+// stage before the sleeper is in: preparation_checkpoint.hpp); `what` starts the file's note.
+void save_packing(const std::filesystem::path& path, const Packing& packing, const StageSetup& setup,
+                  const std::string& what);
 // Adds the preparation stages' reports to a saved packing (/packing/stages).
 void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages);
 // The stage reports of a saved packing, in the order they ran (none for an older packing).

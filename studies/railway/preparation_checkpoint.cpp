@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <toml++/toml.h>
 
+#include <array>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include "dem/hdf5_io.hpp"
 
@@ -13,8 +16,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The [preparation] keys that act only after the deposition (and the trimming, which is redone).
+constexpr std::array<std::string_view, 10> kAfterDeposition = {
+    "tamping_depth", "tamping_time", "tamping_sleeper_vertical", "consolidation_gravity", "consolidation_time",
+    "expansion_steps", "expansion_time", "local_damping", "equilibrium_ratio", "max_settling_time"};
+
 // The first line where two config texts differ, for a message a person can act on.
-std::string first_difference(const std::string& saved, const std::string& given) {
+std::string first_different_line(const std::string& saved, const std::string& given) {
   std::istringstream a(saved), b(given);
   std::string line_a, line_b;
   for (int line = 1;; ++line) {
@@ -27,15 +35,69 @@ std::string first_difference(const std::string& saved, const std::string& given)
   }
 }
 
+std::string shown(const toml::node* n) {
+  if (!n) return "absent";
+  if (const auto* x = n->as_floating_point()) return fmt::format("{}", x->get());  // shortest, as typed
+  std::ostringstream out;
+  out << toml::node_view<const toml::node>(n);
+  return out.str();
+}
+
+// The first key (dotted) whose value differs between two tables, with both values; "" if none.
+std::string first_different_key(const toml::table& a, const toml::table& b, const std::string& prefix) {
+  for (auto&& [k, v] : a) {
+    const std::string key = prefix + std::string(k.str());
+    const toml::node* w = b.get(k.str());
+    if (w && v.is_table() && w->is_table()) {
+      const std::string inner = first_different_key(*v.as_table(), *w->as_table(), key + ".");
+      if (!inner.empty()) return inner;
+    } else if (!w || toml::node_view<const toml::node>(&v) != toml::node_view<const toml::node>(w)) {
+      return fmt::format("{} = {} in the checkpoint, {} now", key, shown(&v), shown(w));
+    }
+  }
+  for (auto&& [k, v] : b)
+    if (!a.contains(k.str())) return fmt::format("{} = absent in the checkpoint, {} now", prefix + std::string(k.str()), shown(&v));
+  return "";
+}
+
+// The config without what acts after the deposition.
+toml::table deposition_part(const std::string& text) {
+  toml::table t = toml::parse(text);
+  for (const char* key : {"name", "seed", "push"}) t.erase(key);
+  if (toml::table* preparation = t["preparation"].as_table())
+    for (const auto key : kAfterDeposition) preparation->erase(key);
+  return t;
+}
+
+void check_made_for(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config,
+                    CheckpointUse use) {
+  if (saved.seed != config.seed)
+    throw std::runtime_error(fmt::format("{}: made with seed {}, this run has seed {}; use --seed {}", path.string(),
+                                         saved.seed, config.seed, saved.seed));
+  if (saved.stones.library != config.stones.library)
+    throw std::runtime_error(fmt::format("{}: made with the shape library {}, this config's is {}", path.string(),
+                                         saved.stones.library.string(), config.stones.library.string()));
+  if (use == CheckpointUse::kResume && saved.text != config.text)
+    throw std::runtime_error(fmt::format("{}: made from another config ({}); resume with the config it was made "
+                                         "from", path.string(), first_different_line(saved.text, config.text)));
+  if (use == CheckpointUse::kDeposit) {
+    const std::string difference = first_different_key(deposition_part(saved.text), deposition_part(config.text), "");
+    if (!difference.empty())
+      throw std::runtime_error(fmt::format("{}: deposited with another config ({}); only what acts after the "
+                                           "deposition may differ", path.string(), difference));
+  }
+}
+
 }  // namespace
 
 void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const BedBetweenStages& bed,
-                     const dem::RigidBox& sleeper, const PreparationReport& report, const std::string& next_stage) {
+                     const StageSetup& setup, const PreparationReport& report, const std::string& next_stage) {
   Packing p;
   p.config = config;
   p.stones = bed.records;
   p.bodies = bed.stones;
-  p.sleeper = sleeper;
+  if (setup.sleeper) p.sleeper = *setup.sleeper;
+  p.sleeper.half_extent = setup.sleeper ? setup.sleeper->half_extent : dem::Vec3::Zero();
   p.sleeper.centre = bed.sleeper_centre;
   p.domain = bed.domain;
   for (const auto& s : report.stages) p.preparation_time += s.simulated_time;
@@ -43,12 +105,13 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   // Written beside and renamed over the last one: a run stopped mid-write keeps a whole file.
   fs::path partial = path;
   partial.replace_extension(".partial.h5");
-  save_packing(partial, p);
+  save_packing(partial, p, setup, "preparation checkpoint before stage " + next_stage);
   append_stage_reports(partial, report.stages);
   const hid_t file = H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("cannot reopen " + partial.string());
   const hid_t g = H5Gopen2(file, "packing", H5P_DEFAULT);
   dem::h5::write_attribute(g, "next_stage", next_stage);
+  dem::h5::write_attribute(g, "trimmed", bed.trimmed ? 1.0 : 0.0);
   dem::h5::write_attribute(g, "mean_size", bed.mean_size);
   dem::h5::write_attribute(g, "stones_generated", static_cast<double>(report.stones_generated));
   dem::h5::write_attribute(g, "stones_removed", static_cast<double>(report.stones_removed));
@@ -59,25 +122,24 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   fs::remove(fs::path(partial).replace_extension(".xdmf"));  // a checkpoint is not for viewing
 }
 
-BedBetweenStages load_checkpoint(const fs::path& path, const PushStudyConfig& config, PreparationReport& report,
-                                 std::string& next_stage) {
+BedBetweenStages load_checkpoint(const fs::path& path, const PushStudyConfig& config, CheckpointUse use,
+                                 PreparationReport& report, std::string& next_stage) {
   if (!fs::exists(path))
-    throw std::runtime_error(fmt::format("{}: no checkpoint to resume from (expected one written by an earlier "
-                                         "`mfdem pack` with the same --out)", path.string()));
+    throw std::runtime_error(fmt::format("{}: no such checkpoint (expected the checkpoint.h5 that `mfdem pack` "
+                                         "writes into its --out directory)", path.string()));
   const Packing p = load_packing(path);
-  if (p.config.seed != config.seed)
-    throw std::runtime_error(fmt::format("{}: made with seed {}, this run has seed {}; resume with --seed {}",
-                                         path.string(), p.config.seed, config.seed, p.config.seed));
-  if (p.config.text != config.text)
-    throw std::runtime_error(fmt::format("{}: made from another config ({}); resume with the config it was made "
-                                         "from", path.string(), first_difference(p.config.text, config.text)));
+  check_made_for(path, p.config, config, use);
+  BedBetweenStages bed;
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   const hid_t g = H5Gopen2(file, "packing", H5P_DEFAULT);
   next_stage = dem::h5::read_text_attribute(g, "next_stage");
-  BedBetweenStages bed;
   try {
     if (next_stage.empty())
       throw std::runtime_error("no /packing attribute next_stage: a finished packing, not a checkpoint");
+    bed.trimmed = dem::h5::read_attribute(g, "trimmed") != 0.0;
+    if (use == CheckpointUse::kDeposit && bed.trimmed)
+      throw std::runtime_error(fmt::format("saved before stage '{}', not after the deposition (make one with "
+                                           "`mfdem pack CONFIG --stop-after deposit`)", next_stage));
     bed.mean_size = dem::h5::read_attribute(g, "mean_size");
     report.stones_generated = static_cast<std::int64_t>(dem::h5::read_attribute(g, "stones_generated"));
     report.stones_removed = static_cast<std::int64_t>(dem::h5::read_attribute(g, "stones_removed"));

@@ -1,21 +1,25 @@
 #pragma once
 // The bed between two preparation stages, saved so that a long preparation can stop and go on
 // later (`mfdem pack --resume`, `--stop-after`): a paper-size pack runs for hours, longer than a
-// batch job or a session may last, and a crash must not throw away the stages already done.
+// batch job or a session may last, and a crash must not throw away the stages already done. The
+// deposited bed, saved before the trimming, can also start other preparations (`--deposit-from`):
+// other tamping, consolidation or settling from the same deposition, which is a quarter to a half
+// of a pack's cost.
 //
 // A checkpoint is a packing file (packing.hpp) of the bed as the next stage receives it: the
-// stones (sizes and states exactly as held), their records, the sleeper where the last stage
-// left it (its size is the config's), the domain, the reports of the stages done, plus in
-// /packing the attributes next_stage (the stage to run next), mean_size (m), stones_generated,
-// stones_removed and time_step (s). Each stage starts a new solver from the stones' states
-// (no contact springs carry over between stages), so a resumed preparation is bitwise the
-// uninterrupted one.
+// stones (sizes and states exactly as held), their records, the domain, the reports of the
+// stages done, the sleeper box the next stage starts with (zero-sized before the trimming), plus
+// in /packing the attributes next_stage (the stage to run next), trimmed (0 for the deposited
+// bed), mean_size (m), stones_generated, stones_removed and time_step (s). Each stage starts a
+// new solver from the stones' states (no contact springs carry over between stages), so a
+// resumed preparation is bitwise the uninterrupted one.
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "dem/simulation.hpp"
 #include "studies/railway/packing.hpp"
+#include "studies/railway/section_simulation.hpp"
 #include "studies/railway/stage_runner.hpp"
 
 namespace mfdem::railway {
@@ -30,20 +34,28 @@ struct PreparationReport {
 struct BedBetweenStages {
   std::vector<dem::ClumpSpec> stones;
   std::vector<StoneRecord> records;  // one per stone
-  dem::Vec3 sleeper_centre;          // m
+  dem::Vec3 sleeper_centre;          // m, where the last stage left it (its design place until then)
   dem::Domain domain;
   double mean_size = 0.0;            // m, over every stone drawn: the stages' energy scale
+  bool trimmed = false;              // false: as deposited, before the trimming and the sleeper's cut
 };
 
 // Writes the checkpoint to `path` (through a temporary file, so a run stopped while writing
-// keeps the previous one). `sleeper` is the box the next stage starts with.
+// keeps the previous one). `setup` holds the boundaries of the bed's state: the deposition's
+// container, or the sleeper box the next stage starts with.
 void save_checkpoint(const std::filesystem::path& path, const PushStudyConfig& config, const BedBetweenStages& bed,
-                     const dem::RigidBox& sleeper, const PreparationReport& report, const std::string& next_stage);
+                     const StageSetup& setup, const PreparationReport& report, const std::string& next_stage);
 
-// Reads a checkpoint written for `config` (the same text and seed, or std::runtime_error naming
-// the file and the difference); appends its stage reports to `report` and returns the bed,
-// `next_stage` set to the stage to run.
-BedBetweenStages load_checkpoint(const std::filesystem::path& path, const PushStudyConfig& config,
+// kResume: a checkpoint of the same preparation (the same config text and seed).
+// kDeposit: a deposited bed for this config (trimmed = 0; the same config but for the keys that
+//   act after the deposition: name, [push], and in [preparation] those of tamping,
+//   consolidation, expansion steps and time, and settling).
+enum class CheckpointUse { kResume, kDeposit };
+
+// Reads a checkpoint for `config` (std::runtime_error naming the file and the first difference
+// when it was made for another); appends its stage reports to `report` and returns the bed,
+// `next_stage` set to the stage it was saved before.
+BedBetweenStages load_checkpoint(const std::filesystem::path& path, const PushStudyConfig& config, CheckpointUse use,
                                  PreparationReport& report, std::string& next_stage);
 
 }  // namespace mfdem::railway

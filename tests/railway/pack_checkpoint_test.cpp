@@ -1,13 +1,15 @@
 // Checkpoints of the bed preparation (studies/railway/preparation_checkpoint.hpp): a preparation
 // stopped after its deposition and again after its tamping, then resumed, is bitwise the
-// uninterrupted one (reference: the uninterrupted run itself; tolerance none, memcmp), with the
-// same stage reports; a checkpoint made with another seed or config, or a stage the config does
-// not run, is refused naming what differs.
+// uninterrupted one, with the same stage reports; a deposition reused under other tamping and
+// settling keys is bitwise that config's own preparation (reference in both: the run without
+// the checkpoint; tolerance none, memcmp). A checkpoint made with another seed or config, or a
+// stage the config does not run, is refused naming what differs.
 #include <catch2/catch.hpp>
 
 #include <cstring>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "studies/railway/bed_preparation.hpp"
@@ -19,11 +21,12 @@ using namespace mfdem;
 namespace {
 
 // The tiny bed with every stage a checkpoint can fall between: deposit, tamp, consolidate, settle.
-railway::PushStudyConfig staged_config(std::uint64_t seed = 7, double tamping_time = 0.02) {
+railway::PushStudyConfig staged_config(std::uint64_t seed = 7, double tamping_time = 0.02,
+                                       const std::string& more = "") {
   std::string text = test::kTinyBed;
   const std::string keys = "tamping_depth = 0.004\ntamping_time = " + std::to_string(tamping_time) +
                            "\ntamping_sleeper_vertical = \"held\"\nconsolidation_gravity = 10.0\n"
-                           "consolidation_time = 0.02\n";
+                           "consolidation_time = 0.02\n" + more;
   const auto at = text.find("[preparation]\n") + std::string("[preparation]\n").size();
   text.insert(at, keys);
   railway::PushStudyConfig c = railway::parse_push_config(text, "staged.toml");
@@ -32,12 +35,14 @@ railway::PushStudyConfig staged_config(std::uint64_t seed = 7, double tamping_ti
 }
 
 std::optional<railway::Packing> run(const railway::PushStudyConfig& c, const std::filesystem::path& checkpoint,
-                                    bool resume, const std::string& stop_after, railway::PreparationReport& report) {
+                                    bool resume, const std::string& stop_after, railway::PreparationReport& report,
+                                    const std::filesystem::path& deposit_from = {}) {
   railway::PreparationControl control;
   control.quiet = true;
   control.checkpoint = checkpoint;
   control.resume = resume;
   control.stop_after = stop_after;
+  control.deposit_from = deposit_from;
   return railway::prepare_bed(c, control, report);
 }
 
@@ -96,7 +101,7 @@ TEST_CASE("a checkpoint is refused for another seed, another config or a stage n
   const test::TempDir dir;
   const auto checkpoint = dir.path() / "checkpoint.h5";
   railway::PreparationReport report;
-  CHECK_THROWS_WITH(run(staged_config(), checkpoint, true, "", report), Catch::Contains("no checkpoint"));
+  CHECK_THROWS_WITH(run(staged_config(), checkpoint, true, "", report), Catch::Contains("no such checkpoint"));
   CHECK_THROWS_WITH(run(staged_config(), checkpoint, false, "settle", report),
                     Catch::Contains("expected one of: deposit, tamp, consolidate"));
   report = {};
@@ -109,4 +114,41 @@ TEST_CASE("a checkpoint is refused for another seed, another config or a stage n
                     Catch::Contains("tamping_time = 0.020000") && Catch::Contains("tamping_time = 0.030000"));
   report = {};
   CHECK_THROWS_WITH(run(staged_config(), checkpoint, true, "deposit", report), Catch::Contains("already done"));
+}
+
+TEST_CASE("a deposition reused under other tamping and settling is that config's own preparation",
+          "[railway][checkpoint]") {
+  const test::TempDir dir;
+  const auto deposited = dir.path() / "deposited.h5";
+  railway::PreparationReport first;
+  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
+  // Other keys that act after the deposition: no consolidation, longer tamping, other settling.
+  const railway::PushStudyConfig other = staged_config(7, 0.03, "");
+  std::string text = other.text;
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"consolidation_gravity = 10.0", "consolidation_gravity = 1.0"},
+                                 {"max_settling_time = 0.1", "max_settling_time = 0.08\nlocal_damping = 0.5"}})
+    text.replace(text.find(from), from.size(), to);
+  const railway::PushStudyConfig later = railway::parse_push_config(text, "later.toml");
+  railway::PreparationReport own, reused;
+  const auto from_scratch = run(later, {}, false, "", own);
+  const auto from_deposit = run(later, dir.path() / "checkpoint.h5", false, "", reused, deposited);
+  REQUIRE(from_scratch);
+  REQUIRE(from_deposit);
+  CHECK(same_states(*from_scratch, *from_deposit));
+  REQUIRE(reused.stages.size() == 3);  // deposit, tamp, settle
+  CHECK(reused.stages[2].steps == own.stages[2].steps);
+  CHECK(reused.stones_removed == own.stones_removed);
+  // A key the deposition uses is refused, named with both values; so is a checkpoint after tamping.
+  railway::PreparationReport refused;
+  std::string changed = text;
+  changed.replace(changed.find("deposition_local_damping = 0.2"), 30, "deposition_local_damping = 0.3");
+  CHECK_THROWS_WITH(run(railway::parse_push_config(changed, "c.toml"), {}, false, "", refused, deposited),
+                    Catch::Contains("preparation.deposition_local_damping = 0.2 in the checkpoint, 0.3 now"));
+  const auto after_tamp = dir.path() / "after_tamp.h5";
+  std::filesystem::copy_file(deposited, after_tamp);
+  refused = {};
+  REQUIRE_FALSE(run(staged_config(), after_tamp, true, "tamp", refused));
+  refused = {};
+  CHECK_THROWS_WITH(run(later, {}, false, "", refused, after_tamp),
+                    Catch::Contains("saved before stage 'consolidate', not after the deposition"));
 }

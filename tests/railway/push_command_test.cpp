@@ -33,7 +33,12 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
   CHECK_THAT(stop.err, Catch::Contains("--stop-after settle") && Catch::Contains("expected one of: deposit"));
   const auto resume = run_mfdem({"pack", "mini", "--resume", "--out", out, "-q"});
   CHECK(resume.status == 1);
-  CHECK_THAT(resume.err, Catch::Contains("checkpoint.h5") && Catch::Contains("no checkpoint to resume from"));
+  CHECK_THAT(resume.err, Catch::Contains("checkpoint.h5") && Catch::Contains("no such checkpoint"));
+  std::filesystem::create_directories(out);
+  std::ofstream(out + "/checkpoint.h5") << "";
+  const auto own = run_mfdem({"pack", "mini", "--deposit-from", out, "--out", out, "-q"});
+  CHECK(own.status == 1);
+  CHECK_THAT(own.err, Catch::Contains("this run's own checkpoint") && Catch::Contains("another --out"));
   const auto velocity = run_mfdem({"push", out, "--velocity", "-5"});
   CHECK(velocity.status == 2);
   CHECK_THAT(velocity.err, Catch::Contains("--velocity"));
