@@ -136,7 +136,8 @@ BedBetweenStages load_checkpoint(const fs::path& path, const PushStudyConfig& co
   try {
     if (next_stage.empty())
       throw std::runtime_error("no /packing attribute next_stage: a finished packing, not a checkpoint");
-    bed.trimmed = dem::h5::read_attribute(g, "trimmed") != 0.0;
+    // Checkpoints from before the attribute (595a42c) were all saved after the trimming.
+    bed.trimmed = H5Aexists(g, "trimmed") <= 0 || dem::h5::read_attribute(g, "trimmed") != 0.0;
     if (use == CheckpointUse::kDeposit && bed.trimmed)
       throw std::runtime_error(fmt::format("saved before stage '{}', not after the deposition (make one with "
                                            "`mfdem pack CONFIG --stop-after deposit`)", next_stage));
