@@ -206,7 +206,7 @@ StageSetup deposition_setup(const PushStudyConfig& c) {
 
 // Steps 1-3: draws the stones and deposits them.
 BedBetweenStages deposit(const PushStudyConfig& c, bool quiet, PreparationReport& report,
-                                  const std::filesystem::path& stage_directory) {
+                         const std::filesystem::path& stage_directory) {
   const SectionGeometry& g = c.geometry;
   const StoneFactory factory(c);
   // Step 1: how many stones fill the container to the ballast top.
