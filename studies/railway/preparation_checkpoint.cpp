@@ -96,8 +96,8 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   p.config = config;
   p.stones = bed.records;
   p.bodies = bed.stones;
-  if (setup.sleeper) p.sleeper = *setup.sleeper;
-  p.sleeper.half_extent = setup.sleeper ? setup.sleeper->half_extent : dem::Vec3::Zero();
+  p.sleeper = setup.sleeper.value_or(dem::RigidBox{});
+  if (!setup.sleeper) p.sleeper.half_extent = dem::Vec3::Zero();  // not in the bed yet
   p.sleeper.centre = bed.sleeper_centre;
   p.domain = bed.domain;
   for (const auto& s : report.stages) p.preparation_time += s.simulated_time;
