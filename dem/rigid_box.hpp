@@ -23,6 +23,8 @@ struct RigidBox {
   // m/s: rate of change of each half extent, a prescribed growth (a sleeper tamped into its bed
   // grows into its place); its work on the elements counts as work put in.
   Vec3 growth_rate = Vec3::Zero();
+  // N: an external load on the free axes (a wheel load on a sleeper); its work counts as work put in.
+  Vec3 applied_force = Vec3::Zero();
 };
 
 // Height of the box's bottom face (a sleeper's base), m.

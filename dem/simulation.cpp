@@ -321,11 +321,12 @@ void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) 
   bodies_.angular_velocity[b] += r * (h * (r.transpose() * torque)).cwiseQuotient(bodies_.inertia[b]);
 }
 
-// Free axes of a box move under the elements' force and gravity; driven axes keep their speed.
+// Free axes of a box move under the elements' force, its load and gravity; driven axes keep
+// their speed.
 void Simulation::kick_boxes(double h) {
   for (std::size_t k = 0; k < boxes_.size(); ++k) {
     RigidBox& box = boxes_[k];
-    const Vec3 acceleration = box_force_[k] / box.mass + settings_.gravity;
+    const Vec3 acceleration = (box_force_[k] + box.applied_force) / box.mass + settings_.gravity;
     for (int a = 0; a < 3; ++a)
       if (!box.driven[a]) box.velocity[a] += h * acceleration[a];
   }
@@ -341,6 +342,8 @@ void Simulation::step() {
   drift_and_kick();
   kick_boxes(0.5 * dt_);
   for (auto& box : boxes_) {
+    for (int a = 0; a < 3; ++a)
+      if (!box.driven[a]) work_by_walls_ += box.applied_force[a] * box.velocity[a] * dt_;
     box.centre += dt_ * box.velocity;
     box.half_extent += dt_ * box.growth_rate;
   }

@@ -76,7 +76,7 @@ struct EnergyReport {
   double dissipated_damping = 0.0;   // viscous contact damping, cumulative
   double dissipated_friction = 0.0;  // sliding and rolling slip, cumulative
   double dissipated_local = 0.0;     // local (non-viscous) damping, cumulative
-  double work_by_walls = 0.0;        // work done on the bodies by moving walls, cumulative
+  double work_by_walls = 0.0;        // work done by moving walls and boxes and loads on boxes, cumulative
 
   double kinetic() const { return kinetic_translational + kinetic_rotational; }
   double dissipated() const { return dissipated_damping + dissipated_friction + dissipated_local; }

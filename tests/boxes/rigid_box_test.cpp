@@ -91,6 +91,56 @@ TEST_CASE("a box free along z comes to rest on spheres, which carry its weight",
   CHECK(std::abs(sim.boxes()[0].velocity.z()) < 1e-4);
 }
 
+TEST_CASE("a load on a free box is carried by the spheres under it, and its work enters the energy balance",
+          "[box][load]") {
+  // Reference: statics, as above with the load P added: the spheres push the box up with
+  // M g + P and the floor carries (M + sum m) g + P (1e-4 relative after 1 s with damping). The
+  // box, set down touching, sinks by its two springs in series per sphere, ((M g + P) / 2 + m g)
+  // / k (1e-3 relative), so the load does work P dz, which the energy account must hold:
+  // |change of total| < 1 % of that work (the drive test's tolerance).
+  dem::Domain domain;
+  domain.min = Vec3(-0.5, -0.5, 0.0);
+  domain.max = Vec3(0.5, 0.5, 0.5);
+  dem::Simulation sim(domain, stone_and_concrete(0.5), dem::SimulationSettings{});
+  dem::PlaneWall floor;
+  floor.material = 1;
+  sim.add_wall(floor);
+  const double r = 0.02;
+  for (int k = 0; k < 4; ++k) {
+    dem::SphereSpec s;
+    s.position = Vec3(k % 2 ? 0.05 : -0.05, k / 2 ? 0.05 : -0.05, r);
+    s.radius = r;
+    sim.add_sphere(s);
+  }
+  dem::RigidBox box;
+  box.name = "sleeper";
+  box.half_extent = Vec3(0.1, 0.1, 0.02);
+  box.centre = Vec3(0.0, 0.0, 2.0 * r + 0.02);  // touching
+  box.mass = 2.0;
+  box.material = 1;
+  box.driven = {true, true, false};
+  const double load = 500.0;  // N, 25x the box's weight
+  box.applied_force = Vec3(0.0, 0.0, -load);
+  sim.add_box(box);
+  sim.prepare();
+  double sphere_mass = 0.0;
+  for (double m : sim.bodies().mass) sphere_mass += m;
+  const double e0 = sim.energy().total();
+  const double z0 = box.centre.z();
+  while (sim.time() < 1.0) sim.step();
+  const double g = 9.81;
+  const dem::EnergyReport e = sim.energy();
+  const double sink = z0 - sim.boxes()[0].centre.z();
+  CAPTURE(sim.box_force(0).z(), sim.wall_force(0).z(), sink, e.work_by_walls, e.total() - e0);
+  CHECK(sim.box_force(0).z() == Approx(box.mass * g + load).epsilon(1e-4));
+  CHECK(-sim.wall_force(0).z() == Approx((box.mass + sphere_mass) * g + load).epsilon(1e-4));
+  const double k = 2e6 * 5e9 / (2e6 + 5e9);  // stone against concrete, in series
+  const double per_sphere = (box.mass * g + load) / 4.0;
+  CHECK(sink == Approx((2.0 * per_sphere + sphere_mass / 4.0 * g) / k).epsilon(1e-3));
+  CHECK(e.work_by_walls == Approx(load * sink).epsilon(1e-9));
+  CHECK(std::abs(e.total() - e0) < 0.01 * e.work_by_walls);
+}
+
 namespace {
 
 // Five spheres in a row ahead of (+x of) a pusher box in zero gravity; the box moves at 0.5 m/s
