@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <optional>
 
 #include "dem/spatial_order.hpp"
@@ -120,7 +121,8 @@ std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
 // bed moving for an equal time after each (each a solver run of its own: radii are fixed within
 // a run; contact springs restart and reload within micrometres of slip), the sleeper's tamping
 // cut (the sleeper itself without tamping) in place.
-StageReport expand(const PushStudyConfig& c, const StageSetup& settle, bool quiet, BedBetweenStages& bed) {
+StageReport expand(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
+                   BedBetweenStages& bed) {
   StageSetup grow = settle;
   grow.sleeper = inset(*settle.sleeper, c.preparation.tamping_depth);
   const int steps = c.preparation.expansion_steps;
@@ -139,7 +141,7 @@ StageReport expand(const PushStudyConfig& c, const StageSetup& settle, bool quie
     total.wall_seconds += step.report.wall_seconds;
     total.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
     total.sleeper_base = step.report.sleeper_base;
-    if (!quiet)
+    if (!control.quiet)
       fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
                  steps, *total.sleeper_base, total.unbalanced_force_ratio);
   }
@@ -193,6 +195,39 @@ StageReport consolidate(const PushStudyConfig& c, const StageSetup& settle, cons
   bed.stones = body_states(consolidation.sim);
   bed.sleeper_centre = consolidation.sim.boxes()[0].centre;
   return consolidation.report;
+}
+
+// Step 5c: traffic. The sleeper, held across and along the track as by its rails and free
+// vertically, takes traffic_cycles load pulses P sin^2(pi t / T): the bed under it compacts as
+// under passing axles, and the sleeper sinks a little more with each (printed per cycle: the
+// settlement curve of a ballast box test).
+StageReport traffic(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
+                    BedBetweenStages& bed) {
+  StageSetup setup = settle;
+  setup.sleeper->driven = {true, true, false};
+  const double load = c.preparation.traffic_load, period = c.preparation.traffic_period;
+  const int cycles = c.preparation.traffic_cycles;
+  const double start = dem::box_bottom(*setup.sleeper);
+  int cycle = 0;
+  const StageDrive pulses = [&](dem::Simulation& sim, double t) {
+    dem::RigidBox& box = sim.mutable_boxes()[0];
+    const double s = std::sin(std::numbers::pi * t / period);
+    box.applied_force = dem::Vec3(0.0, 0.0, -load * s * s);
+    const int now = static_cast<int>(t / period);
+    if (now > cycle && now < cycles && !control.quiet)
+      fmt::print(stderr, "traffic: cycle {}/{} done, sleeper sunk {:.3f} mm\n", now, cycles,
+                 1e3 * (start - dem::box_bottom(box)));
+    cycle = now;
+  };
+  const Stage run = run_stage(c, bed.domain, bed.stones, setup, {"traffic", c.preparation.equilibrium_ratio,
+                              cycles * period, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
+                              control.stage_directory, pulses);
+  bed.stones = body_states(run.sim);
+  bed.sleeper_centre = run.sim.boxes()[0].centre;
+  if (!control.quiet)
+    fmt::print(stderr, "traffic: {} cycles of {:.3g} kN, sleeper sunk {:.3f} mm in all\n", cycles, 1e-3 * load,
+               1e3 * (start - dem::box_bottom(run.sim.boxes()[0])));
+  return run.report;
 }
 
 // Between the floor and container walls at the shoulder toes, with lowered stone friction.
@@ -267,35 +302,45 @@ void trim(const PushStudyConfig& c, BedBetweenStages& bed, PreparationReport& re
   bed.trimmed = true;
 }
 
+// A stage after the trimming; the settling (run == nullptr) ends every preparation.
+using StageRun = StageReport (*)(const PushStudyConfig&, const StageSetup&, const PreparationControl&,
+                                 BedBetweenStages&);
+struct LaterStage {
+  std::string name;
+  double max_time;  // s simulated, at most
+  StageRun run;
+};
+
 // The stages after the deposition, in the order they run: those the config asks for.
-std::vector<std::string> later_stages(const PushStudyConfig& c) {
-  std::vector<std::string> names;
-  if (c.preparation.expansion_strain > 0.0) names.push_back("expand");
-  if (c.preparation.tamping_depth > 0.0) names.push_back("tamp");
-  if (c.preparation.consolidation_gravity > 1.0) names.push_back("consolidate");
-  names.push_back("settle");
-  return names;
+std::vector<LaterStage> later_stages(const PushStudyConfig& c) {
+  const PreparationSettings& p = c.preparation;
+  std::vector<LaterStage> stages;
+  if (p.expansion_strain > 0.0) stages.push_back({"expand", p.expansion_time, expand});
+  if (p.tamping_depth > 0.0) stages.push_back({"tamp", p.tamping_time, tamp});
+  if (p.consolidation_gravity > 1.0) stages.push_back({"consolidate", p.consolidation_time, consolidate});
+  if (p.traffic_cycles > 0) stages.push_back({"traffic", p.traffic_cycles * p.traffic_period, traffic});
+  stages.push_back({"settle", p.max_settling_time, nullptr});
+  return stages;
 }
 
-// The longest a later stage runs, s simulated.
-double max_time_of(const PushStudyConfig& c, const std::string& stage) {
-  if (stage == "expand") return c.preparation.expansion_time;
-  if (stage == "tamp") return c.preparation.tamping_time;
-  if (stage == "consolidate") return c.preparation.consolidation_time;
-  return c.preparation.max_settling_time;
+std::vector<std::string> names_of(const std::vector<LaterStage>& stages) {
+  std::vector<std::string> names;
+  for (const auto& s : stages) names.push_back(s.name);
+  return names;
 }
 
 // After a stage: what is left and about how long it takes, at the finished stage's cost per
 // body and step (every stage has the deposition's time step). A paper-size pack runs for hours.
-void print_remaining(const PushStudyConfig& c, const std::vector<std::string>& stages, std::size_t next,
-                     const PreparationReport& report, std::size_t bodies_before, std::size_t bodies_after) {
+void print_remaining(const std::vector<LaterStage>& stages, std::size_t next, const PreparationReport& report,
+                     std::size_t bodies_before, std::size_t bodies_after) {
   const StageReport& last = report.stages.back();
   double time = 0.0;
-  for (std::size_t k = next; k < stages.size(); ++k) time += max_time_of(c, stages[k]);
+  for (std::size_t k = next; k < stages.size(); ++k) time += stages[k].max_time;
   const auto steps = static_cast<double>(std::llround(time / report.time_step));
   const double per_step = last.wall_seconds / std::max<double>(1.0, static_cast<double>(last.steps)) *
                           static_cast<double>(bodies_after) / static_cast<double>(std::max<std::size_t>(1, bodies_before));
-  std::vector<std::string> left(stages.begin() + static_cast<std::ptrdiff_t>(next), stages.end());
+  const std::vector<std::string> names = names_of(stages);
+  std::vector<std::string> left(names.begin() + static_cast<std::ptrdiff_t>(next), names.end());
   fmt::print(stderr, "pack: {} done in {}; left: {}, at most {:.3g} s simulated ({:.0f} steps), at most about {} at its speed\n",
              last.name, scene::format_duration(last.wall_seconds), fmt::join(left, ", "), time, steps,
              scene::format_duration(per_step * steps));
@@ -304,7 +349,7 @@ void print_remaining(const PushStudyConfig& c, const std::vector<std::string>& s
 }  // namespace
 
 std::vector<std::string> stopping_points(const PushStudyConfig& c) {
-  std::vector<std::string> names = later_stages(c);
+  std::vector<std::string> names = names_of(later_stages(c));
   names.pop_back();  // the settling ends with the packing itself
   names.insert(names.begin(), "deposit");
   return names;
@@ -313,7 +358,8 @@ std::vector<std::string> stopping_points(const PushStudyConfig& c) {
 std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationControl& control,
                                    PreparationReport& report) {
   const std::size_t first_stage = report.stages.size();
-  const std::vector<std::string> stages = later_stages(c);
+  const std::vector<LaterStage> stages = later_stages(c);
+  const std::vector<std::string> names = names_of(stages);
   const std::vector<std::string> points = stopping_points(c);
   const auto stop_index = static_cast<std::size_t>(std::find(points.begin(), points.end(), control.stop_after) - points.begin());
   if (!control.stop_after.empty() && stop_index == points.size())
@@ -340,11 +386,11 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     const std::filesystem::path& from = reuse ? control.deposit_from : control.checkpoint;
     std::string name;
     bed = load_checkpoint(from, c, reuse ? CheckpointUse::kDeposit : CheckpointUse::kResume, report, name);
-    if (reuse) name = stages.front();  // this config's own stages follow the deposition
-    next = static_cast<std::size_t>(std::find(stages.begin(), stages.end(), name) - stages.begin());
-    if (next == stages.size())
+    if (reuse) name = names.front();  // this config's own stages follow the deposition
+    next = static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+    if (next == names.size())
       throw std::runtime_error(fmt::format("{}: next_stage '{}' is not a stage of this config ({})", from.string(),
-                                           name, fmt::join(stages, ", ")));
+                                           name, fmt::join(names, ", ")));
     // points[i] is stages[i - 1] for i >= 1: done when i - 1 < next.
     if (!control.stop_after.empty() && stop_index <= next)
       throw std::invalid_argument(fmt::format("--stop-after {}: already done in {} (its next stage is '{}')",
@@ -354,12 +400,12 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
                  from.string(), bed.stones.size(), name);
   } else {
     bed = deposit(c, control.quiet, report, control.stage_directory);
-    if (done("deposit", stages.front())) return std::nullopt;
+    if (done("deposit", names.front())) return std::nullopt;
   }
   if (!bed.trimmed) {
     trim(c, bed, report);
     if (!control.quiet && next == 0)
-      print_remaining(c, stages, 0, report, static_cast<std::size_t>(report.stones_generated), bed.stones.size());
+      print_remaining(stages, 0, report, static_cast<std::size_t>(report.stones_generated), bed.stones.size());
   }
 
   // The design friction and local damping, the sleeper free across the track and vertically.
@@ -368,13 +414,10 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   settle.stone_local_damping = c.preparation.local_damping;
   settle.sleeper = sleeper;
   for (; next + 1 < stages.size(); ++next) {
-    const std::string& stage = stages[next];
     settle.sleeper->centre = bed.sleeper_centre;
-    if (stage == "expand") report.stages.push_back(expand(c, settle, control.quiet, bed));
-    if (stage == "tamp") report.stages.push_back(tamp(c, settle, control, bed));
-    if (stage == "consolidate") report.stages.push_back(consolidate(c, settle, control, bed));
-    if (!control.quiet) print_remaining(c, stages, next + 1, report, bed.stones.size(), bed.stones.size());
-    if (done(stage, stages[next + 1])) return std::nullopt;
+    report.stages.push_back(stages[next].run(c, settle, control, bed));
+    if (!control.quiet) print_remaining(stages, next + 1, report, bed.stones.size(), bed.stones.size());
+    if (done(names[next], names[next + 1])) return std::nullopt;
   }
 
   // Step 6: settle with the design friction, the sleeper free to sink onto the bed.

@@ -42,6 +42,10 @@
 //    damping, the sleeper free across the track and vertically, gravity is raised that many
 //    times for `consolidation_time`: the bed compacts under the heavier sleeper and stones, and
 //    keeps part of that lateral stress when gravity returns to 1 g in the settling.
+// 5c. Traffic (when `traffic_cycles` > 0). With the design friction and local damping, the
+//    sleeper held across and along the track (as by its rails) and free vertically takes
+//    `traffic_cycles` load pulses traffic_load x sin^2(pi t / traffic_period) downwards: the bed
+//    under it compacts as under passing axles (its sinking is printed after every cycle).
 // 6. Settling. With the design friction and local damping `local_damping`, the bed and the
 //    sleeper (released: free across the track and vertically) settle under gravity until at
 //    rest to `equilibrium_ratio`, or at `max_settling_time` (then the report says "settled NO"
@@ -74,7 +78,7 @@ struct PreparationControl {
 };
 
 // The stages a preparation with this config can stop after: "deposit", then those of expand,
-// tamp and consolidate it runs (not the settling, which ends with the packing).
+// tamp, consolidate and traffic it runs (not the settling, which ends with the packing).
 std::vector<std::string> stopping_points(const PushStudyConfig& config);
 
 // The packing, or none when stopped by `control.stop_after`. Throws std::invalid_argument for

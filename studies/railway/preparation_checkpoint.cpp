@@ -17,9 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 
 // The [preparation] keys that act only after the deposition (and the trimming, which is redone).
-constexpr std::array<std::string_view, 10> kAfterDeposition = {
+constexpr std::array<std::string_view, 13> kAfterDeposition = {
     "tamping_depth", "tamping_time", "tamping_sleeper_vertical", "consolidation_gravity", "consolidation_time",
-    "expansion_steps", "expansion_time", "local_damping", "equilibrium_ratio", "max_settling_time"};
+    "expansion_steps", "expansion_time", "traffic_cycles", "traffic_load", "traffic_period", "local_damping",
+    "equilibrium_ratio", "max_settling_time"};
 
 // The first line where two config texts differ, for a message a person can act on.
 std::string first_different_line(const std::string& saved, const std::string& given) {

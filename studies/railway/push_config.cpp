@@ -78,6 +78,12 @@ void read_preparation(const Section& s, PreparationSettings& p) {
                                                     "equal growth factors of the expansion"));
   p.expansion_time = s.number_or("expansion_time", p.expansion_time, kPositive,
                                  "simulated s over which the stones grow");
+  p.traffic_cycles = static_cast<int>(s.integer_or("traffic_cycles", p.traffic_cycles, {.min = 0, .max = 100000},
+                                                   "load pulses on the sleeper after the compaction (0 = none)"));
+  p.traffic_load = s.number_or("traffic_load", p.traffic_load, kPositive,
+                               "peak downward load of a traffic pulse on the sleeper in N");
+  p.traffic_period = s.number_or("traffic_period", p.traffic_period, kPositive,
+                                 "simulated s of one traffic load pulse");
 }
 
 void read_push(const Section& s, PushSettings& p) {

@@ -52,6 +52,12 @@ struct PreparationSettings {
   double expansion_strain = 0.0;
   int expansion_steps = 20;
   double expansion_time = 0.1;
+  // Traffic: `traffic_cycles` load pulses on the sleeper, each traffic_load x sin^2(pi t /
+  // traffic_period) downwards (N, s), the sleeper held across and along the track (by the rails)
+  // and free vertically: the bed compacts under the sleeper as under passing axles. 0 skips it.
+  int traffic_cycles = 0;
+  double traffic_load = 90e3;   // N: two rail seats, each about 45 % of a 100 kN wheel (a 20 t axle)
+  double traffic_period = 0.05; // s: one axle at about 100 km/h passes a sleeper in about this
 };
 
 struct PushSettings {
