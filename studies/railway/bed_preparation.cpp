@@ -211,8 +211,7 @@ StageReport traffic(const PushStudyConfig& c, const StageSetup& settle, const Pr
   int cycle = 0;
   const StageDrive pulses = [&](dem::Simulation& sim, double t) {
     dem::RigidBox& box = sim.mutable_boxes()[0];
-    const double s = std::sin(std::numbers::pi * t / period);
-    box.applied_force = dem::Vec3(0.0, 0.0, -load * s * s);
+    box.applied_force = dem::Vec3(0.0, 0.0, -traffic_load_at(c.preparation, t));
     const int now = static_cast<int>(t / period);
     if (now > cycle && now < cycles && !control.quiet)
       fmt::print(stderr, "traffic: cycle {}/{} done, sleeper sunk {:.3f} mm\n", now, cycles,
@@ -347,6 +346,11 @@ void print_remaining(const std::vector<LaterStage>& stages, std::size_t next, co
 }
 
 }  // namespace
+
+double traffic_load_at(const PreparationSettings& p, double t) {
+  const double s = std::sin(std::numbers::pi * t / p.traffic_period);
+  return p.traffic_load * s * s;
+}
 
 std::vector<std::string> stopping_points(const PushStudyConfig& c) {
   std::vector<std::string> names = names_of(later_stages(c));

@@ -3,7 +3,9 @@
 // uninterrupted one, with the same stage reports; a deposition reused under other tamping and
 // settling keys is bitwise that config's own preparation (reference in both: the run without
 // the checkpoint; tolerance none, memcmp). A checkpoint made with another seed or config, or a
-// stage the config does not run, is refused naming what differs.
+// stage the config does not run, is refused naming what differs. The traffic stage, which runs
+// between the compaction and the settling, is tested here too: against its closed-form pulse,
+// and stopped and resumed after it.
 #include <catch2/catch.hpp>
 
 #include <cstring>
@@ -151,4 +153,56 @@ TEST_CASE("a deposition reused under other tamping and settling is that config's
   refused = {};
   CHECK_THROWS_WITH(run(later, {}, false, "", refused, after_tamp),
                     Catch::Contains("saved before stage 'consolidate', not after the deposition"));
+}
+
+TEST_CASE("a traffic pulse is P sin^2(pi t / T): zero between axles, P at its middle", "[railway][traffic]") {
+  // Reference: the closed form; tolerance 1e-12 P (round-off of sin).
+  railway::PreparationSettings p;
+  p.traffic_load = 9e4;
+  p.traffic_period = 0.05;
+  CHECK(railway::traffic_load_at(p, 0.0) == 0.0);
+  CHECK(railway::traffic_load_at(p, 0.025) == Approx(9e4).margin(1e-12 * 9e4));
+  CHECK(railway::traffic_load_at(p, 0.0125) == Approx(4.5e4).margin(1e-12 * 9e4));
+  CHECK(railway::traffic_load_at(p, 0.05) == Approx(0.0).margin(1e-12 * 9e4));
+  CHECK(railway::traffic_load_at(p, 0.075) == Approx(9e4).margin(1e-12 * 9e4));
+}
+
+TEST_CASE("traffic presses the sleeper into the bed while its rails hold it across, and a pack resumes after it",
+          "[railway][traffic][checkpoint]") {
+  // Three pulses of 10x the sleeper's weight on the tiny bed. References: against the same
+  // deposition under pulses of 1e-6 N (its weight alone) the sleeper ends lower; held across
+  // the track, its centre keeps its x to the bit; resumed after the traffic, the packing is
+  // bitwise the uninterrupted one (memcmp).
+  const test::TempDir dir;
+  const std::string traffic = "traffic_cycles = 3\ntraffic_period = 0.01\ntraffic_load = ";
+  const railway::PushStudyConfig heavy = staged_config(7, 0.02, traffic + "250.0\n");
+  REQUIRE(railway::stopping_points(heavy) == std::vector<std::string>{"deposit", "tamp", "consolidate", "traffic"});
+  const auto deposited = dir.path() / "deposited.h5";
+  railway::PreparationReport first;
+  REQUIRE_FALSE(run(heavy, deposited, false, "deposit", first));
+
+  railway::PreparationReport whole, stopped, resumed_report, light_report;
+  const auto uninterrupted = run(heavy, {}, false, "", whole, deposited);
+  const auto checkpoint = dir.path() / "checkpoint.h5";
+  railway::PreparationReport consolidated;
+  REQUIRE_FALSE(run(heavy, checkpoint, false, "consolidate", consolidated, deposited));
+  const double x_before = railway::load_packing(checkpoint).sleeper.centre.x();
+  REQUIRE_FALSE(run(heavy, checkpoint, true, "traffic", stopped));
+  const double x_after = railway::load_packing(checkpoint).sleeper.centre.x();
+  const auto resumed = run(heavy, checkpoint, true, "", resumed_report);
+  const auto light = run(staged_config(7, 0.02, traffic + "1e-6\n"), {}, false, "", light_report, deposited);
+  REQUIRE(uninterrupted);
+  REQUIRE(resumed);
+  REQUIRE(light);
+
+  CHECK(same_states(*uninterrupted, *resumed));
+  CHECK(x_after == x_before);
+  REQUIRE(stopped.stages.size() == 4);  // deposit, tamp, consolidate, traffic
+  REQUIRE(light_report.stages.size() == 5);
+  CHECK(stopped.stages[3].name == "traffic");
+  const double before = *stopped.stages[2].sleeper_base;
+  const double loaded = *stopped.stages[3].sleeper_base;
+  const double unloaded = *light_report.stages[3].sleeper_base;
+  CAPTURE(before, loaded, unloaded);
+  CHECK(loaded < unloaded);
 }
