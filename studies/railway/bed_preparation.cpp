@@ -6,10 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numbers>
 #include <optional>
 
 #include "dem/spatial_order.hpp"
+#include "studies/railway/compaction_stages.hpp"
+#include "studies/railway/preparation_stage.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/railway/stone_columns.hpp"
 #include "studies/scene/progress.hpp"
@@ -17,80 +18,12 @@
 namespace mfdem::railway {
 namespace {
 
-constexpr double kGravity = 9.81;          // m/s^2, the solver's default gravity
 bool intersects_box(const dem::ClumpSpec& stone, const dem::RigidBox& box) {
   for (const auto& p : stone.pebbles) {
     const dem::Vec3 x = stone.position + stone.orientation.normalized() * p.offset;
     if (dem::sphere_box_contact(x, p.radius, box.centre, box.half_extent)) return true;
   }
   return false;
-}
-
-// Tamping works on the sides and ends: the faces that grow into the bed. Not the base: under
-// the sleeper the bed is confined by the floor, and pressing the base down by even 10 mm stores
-// so much elastic energy that the released sleeper is thrown up (mini: a 6 kg sleeper rose 57 mm
-// after 10 mm and 0.9 m after 20 mm).
-const dem::Vec3 kTampedAxes(1.0, 1.0, 0.0);
-
-// The box with its sides and ends moved in by `depth`, m.
-dem::RigidBox inset(dem::RigidBox box, double depth) {
-  box.half_extent -= depth * kTampedAxes;
-  return box;
-}
-
-dem::RigidBox sleeper_box(const SectionGeometry& g) {
-  dem::RigidBox box;
-  box.name = "sleeper";
-  box.half_extent = 0.5 * dem::Vec3(g.sleeper_length, g.sleeper_width, g.sleeper_height);
-  box.centre = dem::Vec3(0.0, 0.5 * g.section_length, g.sleeper_base() + 0.5 * g.sleeper_height);
-  box.mass = g.sleeper_mass;
-  box.material = kSleeper;
-  box.velocity = dem::Vec3::Zero();
-  // Free across the track while it settles, as a sleeper cut from its rails for a push test:
-  // it comes to rest where the lateral forces of the bed balance, so F(u = 0) is zero and not
-  // a force locked in by holding it (the push resumes the contact springs of the packing).
-  box.driven = {false, true, false};
-  return box;
-}
-
-// The work of lifting the stones by one mean stone size, J: the energy scale of "at rest".
-double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size) {
-  double mass = 0.0;
-  for (const auto& s : stones) mass += s.mass;
-  return mass * kGravity * mean_size;
-}
-
-struct StageGoal {
-  const char* name;
-  double ratio;     // equilibrium target (stage_runner.hpp)
-  double max_time;  // s
-  double mean_size; // m, of the stones: the energy scale is their weight times it
-  RestCriterion criterion;
-};
-
-struct Stage {
-  dem::Simulation sim;
-  StageReport report;
-};
-
-// Sets up one preparation stage, prints its size and step, runs it until settled or its time
-// limit, and writes its frames to stage_directory/NAME.h5 when a directory is given.
-Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::vector<dem::ClumpSpec>& stones,
-                const StageSetup& setup, const StageGoal& goal, bool quiet, const std::filesystem::path& stage_directory,
-                const StageDrive& drive = {}) {
-  Stage stage{make_section_simulation(c, domain, stones, setup), {}};
-  dem::Simulation& sim = stage.sim;
-  sim.prepare();
-  if (!quiet)
-    fmt::print(stderr, "{}: time step {:.3g} s, {} x the stability limit {:.3g} s ({})\n", goal.name,
-               sim.time_step(), c.time_step_safety, sim.time_step_limit().limit, sim.time_step_limit().reason);
-  std::unique_ptr<dem::StateFile> frames;
-  if (!stage_directory.empty())
-    frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
-  stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
-                                   goal.max_time, quiet, goal.criterion, frames.get(), 0.02, 2e-3, drive);
-  if (setup.sleeper) stage.report.sleeper_base = dem::box_bottom(sim.boxes()[0]);
-  return stage;
 }
 
 double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
@@ -100,133 +33,10 @@ double highest_point(const std::vector<dem::ClumpSpec>& bodies) {
   return top;
 }
 
-// The stone grown (f > 1) or shrunk about its centre of mass: same shape, density and frame.
-dem::ClumpSpec scaled(dem::ClumpSpec stone, double f) {
-  for (auto& p : stone.pebbles) {
-    p.offset *= f;
-    p.radius *= f;
-  }
-  stone.mass *= f * f * f;
-  stone.principal_inertia *= f * f * f * f * f;
-  return stone;
-}
-
 std::vector<dem::Vec3> positions_of(const std::vector<dem::ClumpSpec>& bodies) {
   std::vector<dem::Vec3> x;
   for (const auto& b : bodies) x.push_back(b.position);
   return x;
-}
-
-// Step 4b, radius expansion: grows the stones back to their drawn size in equal factors, the
-// bed moving for an equal time after each (each a solver run of its own: radii are fixed within
-// a run; contact springs restart and reload within micrometres of slip), the sleeper's tamping
-// cut (the sleeper itself without tamping) in place.
-StageReport expand(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
-                   BedBetweenStages& bed) {
-  StageSetup grow = settle;
-  grow.sleeper = inset(*settle.sleeper, c.preparation.tamping_depth);
-  const int steps = c.preparation.expansion_steps;
-  const double factor = std::pow(1.0 + c.preparation.expansion_strain, 1.0 / steps);
-  StageReport total;
-  total.name = "expand";
-  for (int k = 0; k < steps; ++k) {
-    for (auto& s : bed.stones) s = scaled(s, factor);
-    const Stage step = run_stage(c, bed.domain, bed.stones, grow, {"expand", c.preparation.equilibrium_ratio,
-                                 c.preparation.expansion_time / steps, bed.mean_size, RestCriterion::kFixedTime},
-                                 true, {});
-    bed.stones = body_states(step.sim);
-    grow.sleeper->centre = step.sim.boxes()[0].centre;
-    total.simulated_time += step.report.simulated_time;
-    total.steps += step.report.steps;
-    total.wall_seconds += step.report.wall_seconds;
-    total.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
-    total.sleeper_base = step.report.sleeper_base;
-    if (!control.quiet)
-      fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
-                 steps, *total.sleeper_base, total.unbalanced_force_ratio);
-  }
-  bed.sleeper_centre = grow.sleeper->centre;
-  total.settled = true;  // a set duration
-  return total;
-}
-
-// Step 5: tamping. The sleeper grows from the cut to its size: its sides and ends press the
-// stones beside them into the cribs and shoulders by up to tamping_depth. Without it the sleeper
-// stands in a hole up to a stone's size too large and the crib stones lean loosely on its sides
-// (standard seed 1: 201 stones touch it untamped, 310 tamped 5 mm).
-StageReport tamp(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
-                 BedBetweenStages& bed) {
-  const dem::RigidBox full = *settle.sleeper;
-  const double depth = c.preparation.tamping_depth;
-  StageSetup setup = settle;
-  setup.sleeper = inset(full, depth);
-  // Free vertically by default: it sinks onto the stones under it while the cribs are packed.
-  // Held (tamping_sleeper_vertical), it can squeeze deeper without being pressed out upwards,
-  // and the cribs then carry part of its weight (mini, 10 mm: the crib sides carried 84 %).
-  setup.sleeper->driven = {true, true, c.preparation.tamping_sleeper_held};
-  const double duration = c.preparation.tamping_time;
-  // Grows at a steady rate and stops at the full size (within round-off of tamping_depth).
-  const StageDrive grow = [&](dem::Simulation& sim, double) {
-    dem::RigidBox& box = sim.mutable_boxes()[0];
-    const double remaining = full.half_extent.x() - box.half_extent.x();
-    const double rate = std::min(depth / duration, remaining / sim.time_step());
-    box.growth_rate = std::max(0.0, rate) * kTampedAxes;
-  };
-  const Stage tamping = run_stage(c, bed.domain, bed.stones, setup, {"tamp", c.preparation.equilibrium_ratio,
-                                  duration, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
-                                  control.stage_directory, grow);
-  bed.stones = body_states(tamping.sim);
-  bed.sleeper_centre = tamping.sim.boxes()[0].centre;  // where it sank to
-  return tamping.report;
-}
-
-// Step 5b: consolidation. Everything weighs consolidation_gravity times more for a while: the
-// bed compacts under the heavier sleeper and its own weight, and, settled again at 1 g, keeps
-// part of the lateral stress (an overconsolidated soil's K exceeds K0). Without it the stones
-// beside the cut lean on the sleeper with K about 0.1 (standard seed 1, results/push_test).
-StageReport consolidate(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
-                        BedBetweenStages& bed) {
-  StageSetup heavy = settle;
-  heavy.gravity_factor = c.preparation.consolidation_gravity;
-  const Stage consolidation = run_stage(c, bed.domain, bed.stones, heavy,
-                                        {"consolidate", c.preparation.equilibrium_ratio,
-                                         c.preparation.consolidation_time, bed.mean_size, RestCriterion::kFixedTime},
-                                        control.quiet, control.stage_directory);
-  bed.stones = body_states(consolidation.sim);
-  bed.sleeper_centre = consolidation.sim.boxes()[0].centre;
-  return consolidation.report;
-}
-
-// Step 5c: traffic. The sleeper, held across and along the track as by its rails and free
-// vertically, takes traffic_cycles load pulses P sin^2(pi t / T): the bed under it compacts as
-// under passing axles, and the sleeper sinks a little more with each (printed per cycle: the
-// settlement curve of a ballast box test).
-StageReport traffic(const PushStudyConfig& c, const StageSetup& settle, const PreparationControl& control,
-                    BedBetweenStages& bed) {
-  StageSetup setup = settle;
-  setup.sleeper->driven = {true, true, false};
-  const double load = c.preparation.traffic_load, period = c.preparation.traffic_period;
-  const int cycles = c.preparation.traffic_cycles;
-  const double start = dem::box_bottom(*setup.sleeper);
-  int cycle = 0;
-  const StageDrive pulses = [&](dem::Simulation& sim, double t) {
-    dem::RigidBox& box = sim.mutable_boxes()[0];
-    box.applied_force = dem::Vec3(0.0, 0.0, -traffic_load_at(c.preparation, t));
-    const int now = static_cast<int>(t / period);
-    if (now > cycle && now < cycles && !control.quiet)
-      fmt::print(stderr, "traffic: cycle {}/{} done, sleeper sunk {:.3f} mm\n", now, cycles,
-                 1e3 * (start - dem::box_bottom(box)));
-    cycle = now;
-  };
-  const Stage run = run_stage(c, bed.domain, bed.stones, setup, {"traffic", c.preparation.equilibrium_ratio,
-                              cycles * period, bed.mean_size, RestCriterion::kFixedTime}, control.quiet,
-                              control.stage_directory, pulses);
-  bed.stones = body_states(run.sim);
-  bed.sleeper_centre = run.sim.boxes()[0].centre;
-  if (!control.quiet)
-    fmt::print(stderr, "traffic: {} cycles of {:.3g} kN, sleeper sunk {:.3f} mm in all\n", cycles, 1e-3 * load,
-               1e3 * (start - dem::box_bottom(run.sim.boxes()[0])));
-  return run.report;
 }
 
 // Between the floor and container walls at the shoulder toes, with lowered stone friction.
@@ -314,10 +124,10 @@ struct LaterStage {
 std::vector<LaterStage> later_stages(const PushStudyConfig& c) {
   const PreparationSettings& p = c.preparation;
   std::vector<LaterStage> stages;
-  if (p.expansion_strain > 0.0) stages.push_back({"expand", p.expansion_time, expand});
-  if (p.tamping_depth > 0.0) stages.push_back({"tamp", p.tamping_time, tamp});
-  if (p.consolidation_gravity > 1.0) stages.push_back({"consolidate", p.consolidation_time, consolidate});
-  if (p.traffic_cycles > 0) stages.push_back({"traffic", p.traffic_cycles * p.traffic_period, traffic});
+  if (p.expansion_strain > 0.0) stages.push_back({"expand", p.expansion_time, run_expansion});
+  if (p.tamping_depth > 0.0) stages.push_back({"tamp", p.tamping_time, run_tamping});
+  if (p.consolidation_gravity > 1.0) stages.push_back({"consolidate", p.consolidation_time, run_consolidation});
+  if (p.traffic_cycles > 0) stages.push_back({"traffic", p.traffic_cycles * p.traffic_period, run_traffic});
   stages.push_back({"settle", p.max_settling_time, nullptr});
   return stages;
 }
@@ -346,11 +156,6 @@ void print_remaining(const std::vector<LaterStage>& stages, std::size_t next, co
 }
 
 }  // namespace
-
-double traffic_load_at(const PreparationSettings& p, double t) {
-  const double s = std::sin(std::numbers::pi * t / p.traffic_period);
-  return p.traffic_load * s * s;
-}
 
 std::vector<std::string> stopping_points(const PushStudyConfig& c) {
   std::vector<std::string> names = names_of(later_stages(c));

@@ -81,10 +81,6 @@ struct PreparationControl {
 // tamp, consolidate and traffic it runs (not the settling, which ends with the packing).
 std::vector<std::string> stopping_points(const PushStudyConfig& config);
 
-// The downward load on the sleeper t (s) into the traffic stage, N: traffic_load sin^2(pi t /
-// traffic_period), zero between pulses.
-double traffic_load_at(const PreparationSettings& preparation, double t);
-
 // The packing, or none when stopped by `control.stop_after`. Throws std::invalid_argument for
 // geometry that cannot be built (railway::validate) or a stop_after that is not a stage of it,
 // std::runtime_error for a checkpoint that cannot be resumed (named), and dem::StabilityError

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "studies/railway/bed_preparation.hpp"
+#include "studies/railway/compaction_stages.hpp"
 #include "tests/railway/tiny_bed.hpp"
 #include "tests/support/temp_dir.hpp"
 
