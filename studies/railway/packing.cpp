@@ -162,6 +162,7 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
     dem::h5::write_doubles(g, "time", s.check_time);
     dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
     dem::h5::write_doubles(g, "kinetic_ratio", s.check_kinetic_ratio);
+    if (!s.check_sleeper_base.empty()) dem::h5::write_doubles(g, "sleeper_base", s.check_sleeper_base);
     H5Gclose(g);
   }
   H5Gclose(all);
@@ -192,6 +193,7 @@ std::vector<StageReport> read_stage_reports(const std::filesystem::path& path) {
       s.check_time = dem::h5::read_doubles(g, "time");
       s.check_force_ratio = dem::h5::read_doubles(g, "unbalanced_force_ratio");
       s.check_kinetic_ratio = dem::h5::read_doubles(g, "kinetic_ratio");
+      if (H5Lexists(g, "sleeper_base", H5P_DEFAULT) > 0) s.check_sleeper_base = dem::h5::read_doubles(g, "sleeper_base");
       s.unbalanced_force_ratio = has("end_unbalanced_force_ratio") ? read_attribute(g, "end_unbalanced_force_ratio")
                                  : s.check_force_ratio.empty() ? 0.0 : s.check_force_ratio.back();
       // The stages ran in `order`; files from before it was written list them by name.

@@ -23,7 +23,8 @@
 //                           end_unbalanced_force_ratio, order (0, 1, ...: the order they ran,
 //                           as HDF5 lists groups by name), sleeper_base (m, once placed); at each
 //                           equilibrium check [n]: time (s since the stage began),
-//                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d).
+//                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d),
+//                           sleeper_base (m; once the sleeper is in the bed).
 // Every number is stored as the double the solver held, so a push from the file is bitwise the
 // push from memory.
 #include <cstdint>

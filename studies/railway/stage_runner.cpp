@@ -52,6 +52,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     r.check_time.push_back(sim.time() - t0);
     r.check_force_ratio.push_back(r.unbalanced_force_ratio);
     r.check_kinetic_ratio.push_back(kinetic);
+    if (!sim.boxes().empty()) r.check_sleeper_base.push_back(dem::box_bottom(sim.boxes()[0]));
     below = criterion != RestCriterion::kFixedTime && forces_balanced && kinetic < ratio_target ? below + 1 : 0;
     progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
                                                  r.unbalanced_force_ratio, kinetic, ratio_target));

@@ -31,6 +31,9 @@ struct StageReport {
   // At every check: simulated time since the stage began (s), the unbalanced force ratio and the
   // kinetic energy over the energy scale. How the bed came to rest, or did not.
   std::vector<double> check_time, check_force_ratio, check_kinetic_ratio;
+  // m: the sleeper's base height at every check (empty before the sleeper is in): how it sank or
+  // rose, e.g. its settlement under each traffic pulse.
+  std::vector<double> check_sleeper_base;
 };
 
 // `check_interval` in simulated seconds. With `frames`, writes the state every `frame_interval`

@@ -97,6 +97,7 @@ TEST_CASE("a preparation stopped after its stages and resumed is bitwise the uni
     CHECK(last.stages[k].unbalanced_force_ratio == whole.stages[k].unbalanced_force_ratio);
     CHECK(last.stages[k].sleeper_base == whole.stages[k].sleeper_base);
     CHECK(last.stages[k].check_force_ratio == whole.stages[k].check_force_ratio);
+    CHECK(last.stages[k].check_sleeper_base == whole.stages[k].check_sleeper_base);
   }
 }
 
