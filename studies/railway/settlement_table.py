@@ -5,8 +5,8 @@
 
 OUT is a directory written by `mfdem pack` with `traffic_cycles` > 0 (its packing.h5, or its
 checkpoint.h5 while the pack runs). The settlement after pulse N is how far the sleeper's base
-has sunk below where the stage before the traffic left it, read at the check nearest the end of
-pulse N (the load is zero there); the permanent settlement a ballast box test reports against
+has sunk below where the stage before the traffic left it (its design place when the traffic
+follows the trimming), read at the check nearest the end of pulse N (the load is zero there); the permanent settlement a ballast box test reports against
 the number of load cycles. With --plot, settlement against N (log scale) for every OUT, and the
 base height through the stage. Needs h5py and numpy (Debian python3-h5py); matplotlib for
 --plot.
@@ -37,15 +37,16 @@ def load(out: Path) -> dict:
                      "(packed before it was recorded)")
         order = traffic.attrs["order"]
         before = [s for s in stages.values() if s.attrs["order"] == order - 1]
-        if not before or "sleeper_base" not in before[0].attrs:
-            sys.exit(f"settlement_table.py: {path}: no stage with the sleeper before the traffic")
         config = tomllib.loads(f["packing"].attrs["config"].decode())
         preparation = config.get("preparation", {})
+        # Straight after the trimming the sleeper stands at its design place.
+        start = (float(before[0].attrs["sleeper_base"]) if before and "sleeper_base" in before[0].attrs
+                 else float(config.get("section", {}).get("depth_under_sleeper", 0.30)))
         return {
             "name": str(out),
             "time": traffic["time"][...],
             "base": traffic["sleeper_base"][...],
-            "start": float(before[0].attrs["sleeper_base"]),
+            "start": start,
             "period": float(preparation.get("traffic_period", 0.05)),
             "load": float(preparation.get("traffic_load", 90e3)),
             "cycles": int(preparation["traffic_cycles"]),
@@ -76,11 +77,13 @@ def main() -> None:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
+        import matplotlib.ticker
         fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
         for d, s in zip(beds, curves):
             n = np.arange(1, len(s) + 1)
             left.semilogx(n, s, "o-", label=d["name"])
             right.plot(d["time"] / d["period"], 1e3 * (d["start"] - d["base"]), lw=0.8, label=d["name"])
+        left.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
         left.set(xlabel="load pulses N", ylabel="permanent settlement (mm)", title="after each pulse")
         right.set(xlabel="t / pulse period", ylabel="sleeper sunk (mm)", title="through the traffic stage")
         for ax in (left, right):
