@@ -73,6 +73,12 @@ std::optional<fs::path> pack(const PackOptions& o) {
       throw std::runtime_error(fmt::format("--deposit-from {} is this run's own checkpoint, which its stages "
                                            "overwrite; give another --out", control.deposit_from.string()));
   }
+  // A fresh pack would overwrite an earlier one's checkpoint, hours of work at paper size.
+  if (!o.resume && fs::exists(control.checkpoint))
+    throw std::runtime_error(fmt::format("{} holds the bed of an earlier pack that stopped before its end; go on "
+                                         "from it with 'mfdem pack {} --seed {} --out {} --resume', or remove it "
+                                         "to start over", control.checkpoint.string(), o.config, config.seed,
+                                         o.common.out.string()));
   railway::PreparationReport report;
   const std::optional<railway::Packing> packing = railway::prepare_bed(config, control, report);
   if (!packing) {
@@ -155,11 +161,11 @@ void add_push_commands(CLI::App& app, Action& action) {
                          "config and seed");
   pack_command->add_option("--deposit-from", pack_options->deposit_from,
                            "Start from this deposited bed (the checkpoint.h5, or its directory, of a pack stopped "
-                           "with --stop-after deposit), made with this config but for tamping, consolidation and "
-                           "settling keys")
+                           "with --stop-after deposit), made with this config but for tamping, consolidation, "
+                           "traffic and settling keys")
       ->excludes(resume_flag);
   pack_command->add_option("--stop-after", pack_options->stop_after,
-                           "Stop after this stage (deposit, expand, tamp, consolidate: those the config runs), "
+                           "Stop after this stage (deposit, expand, tamp, consolidate, traffic: those the config runs), "
                            "its checkpoint written; go on later with --resume");
   add_common_options(*pack_command, pack_options->common);
   pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
@@ -211,6 +217,9 @@ void add_push_commands(CLI::App& app, Action& action) {
         PackOptions p;
         p.common = one_shot->common;
         p.config = one_shot->packing;
+        // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
+        // pack` refuses to overwrite a checkpoint instead.
+        fs::remove(p.common.out / "checkpoint.h5");
         // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.
         return push(*one_shot, *pack(p));
       });

@@ -39,6 +39,10 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
   const auto own = run_mfdem({"pack", "mini", "--deposit-from", out, "--out", out, "-q"});
   CHECK(own.status == 1);
   CHECK_THAT(own.err, Catch::Contains("this run's own checkpoint") && Catch::Contains("another --out"));
+  const auto fresh = run_mfdem({"pack", "mini", "--out", out, "-q"});
+  CHECK(fresh.status == 1);
+  CHECK_THAT(fresh.err, Catch::Contains(out + "/checkpoint.h5") && Catch::Contains("--resume") &&
+                            Catch::Contains("remove it to start over"));
   const auto velocity = run_mfdem({"push", out, "--velocity", "-5"});
   CHECK(velocity.status == 2);
   CHECK_THAT(velocity.err, Catch::Contains("--velocity"));
