@@ -107,7 +107,8 @@ StageReport run_traffic(const PushStudyConfig& c, const StageSetup& settle, cons
     box.applied_force = dem::Vec3(0.0, 0.0, -traffic_load_at(c.preparation, t));
     const int now = static_cast<int>(t / period);
     if (now > cycle && now < cycles && !control.quiet)
-      fmt::print(stderr, "traffic: cycle {}/{} done, sleeper sunk {:.3f} mm\n", now, cycles,
+      // Over the progress line (redrawn with \r), on a line of its own.
+      fmt::print(stderr, "\rtraffic: pulse {}/{} done, sleeper sunk {:.3f} mm\033[K\n", now, cycles,
                  1e3 * (start - dem::box_bottom(box)));
     cycle = now;
   };
@@ -117,7 +118,7 @@ StageReport run_traffic(const PushStudyConfig& c, const StageSetup& settle, cons
   bed.stones = body_states(run.sim);
   bed.sleeper_centre = run.sim.boxes()[0].centre;
   if (!control.quiet)
-    fmt::print(stderr, "traffic: {} cycles of {:.3g} kN, sleeper sunk {:.3f} mm in all\n", cycles, 1e-3 * load,
+    fmt::print(stderr, "traffic: {} pulses of {:.3g} kN, sleeper sunk {:.3f} mm in all\n", cycles, 1e-3 * load,
                1e3 * (start - dem::box_bottom(run.sim.boxes()[0])));
   return run.report;
 }
