@@ -159,6 +159,7 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
     dem::h5::write_attribute(g, "end_unbalanced_force_ratio", s.unbalanced_force_ratio);
     dem::h5::write_attribute(g, "order", static_cast<double>(k));
     if (s.sleeper_base) dem::h5::write_attribute(g, "sleeper_base", *s.sleeper_base);
+    if (s.sleeper_base_start) dem::h5::write_attribute(g, "sleeper_base_start", *s.sleeper_base_start);
     dem::h5::write_doubles(g, "time", s.check_time);
     dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
     dem::h5::write_doubles(g, "kinetic_ratio", s.check_kinetic_ratio);
@@ -190,6 +191,7 @@ std::vector<StageReport> read_stage_reports(const std::filesystem::path& path) {
       s.settled = read_attribute(g, "settled") != 0.0;
       s.wall_seconds = read_attribute(g, "wall_seconds");
       if (has("sleeper_base")) s.sleeper_base = read_attribute(g, "sleeper_base");
+      if (has("sleeper_base_start")) s.sleeper_base_start = read_attribute(g, "sleeper_base_start");
       s.check_time = dem::h5::read_doubles(g, "time");
       s.check_force_ratio = dem::h5::read_doubles(g, "unbalanced_force_ratio");
       s.check_kinetic_ratio = dem::h5::read_doubles(g, "kinetic_ratio");

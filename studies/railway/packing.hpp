@@ -21,7 +21,8 @@
 //   /packing/stages/NAME/   of each preparation stage (written by append_stage_reports): attrs
 //                           simulated_time, steps, settled (1/0), wall_seconds,
 //                           end_unbalanced_force_ratio, order (0, 1, ...: the order they ran,
-//                           as HDF5 lists groups by name), sleeper_base (m, once placed); at each
+//                           as HDF5 lists groups by name), sleeper_base and sleeper_base_start
+//                           (m, at the stage's end and start, once the sleeper is placed); at each
 //                           equilibrium check [n]: time (s since the stage began),
 //                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d),
 //                           sleeper_base (m; once the sleeper is in the bed).

@@ -35,7 +35,10 @@ Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::
     frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
   stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
                                    goal.max_time, quiet, goal.criterion, frames.get(), 0.02, 2e-3, drive);
-  if (setup.sleeper) stage.report.sleeper_base = dem::box_bottom(sim.boxes()[0]);
+  if (setup.sleeper) {
+    stage.report.sleeper_base_start = dem::box_bottom(*setup.sleeper);
+    stage.report.sleeper_base = dem::box_bottom(sim.boxes()[0]);
+  }
   return stage;
 }
 

@@ -5,9 +5,9 @@
 
 OUT is a directory written by `mfdem pack` with `traffic_cycles` > 0 (its packing.h5, or its
 checkpoint.h5 while the pack runs). The settlement after pulse N is how far the sleeper's base
-has sunk below where the stage before the traffic left it (its design place when the traffic
-follows the trimming), read at the check nearest the end of pulse N (the load is zero there); the permanent settlement a ballast box test reports against
-the number of load cycles. With --plot, settlement against N (log scale) for every OUT, and the
+has sunk below where it stood as the traffic began, read at the check nearest the end of pulse
+N (the load is zero there): the permanent settlement a ballast box test reports against the
+number of load cycles. With --plot, settlement against N (log scale) for every OUT, and the
 base height through the stage. Needs h5py and numpy (Debian python3-h5py); matplotlib for
 --plot.
 """
@@ -39,9 +39,14 @@ def load(out: Path) -> dict:
         before = [s for s in stages.values() if s.attrs["order"] == order - 1]
         config = tomllib.loads(f["packing"].attrs["config"].decode())
         preparation = config.get("preparation", {})
-        # Straight after the trimming the sleeper stands at its design place.
-        start = (float(before[0].attrs["sleeper_base"]) if before and "sleeper_base" in before[0].attrs
-                 else float(config.get("section", {}).get("depth_under_sleeper", 0.30)))
+        # Where the stage began; in packings from before that was stored, where the stage before
+        # left it, or straight after the trimming the design place.
+        if "sleeper_base_start" in traffic.attrs:
+            start = float(traffic.attrs["sleeper_base_start"])
+        elif before and "sleeper_base" in before[0].attrs:
+            start = float(before[0].attrs["sleeper_base"])
+        else:
+            start = float(config.get("section", {}).get("depth_under_sleeper", 0.30))
         return {
             "name": str(out),
             "time": traffic["time"][...],

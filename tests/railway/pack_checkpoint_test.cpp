@@ -96,6 +96,7 @@ TEST_CASE("a preparation stopped after its stages and resumed is bitwise the uni
     CHECK(last.stages[k].steps == whole.stages[k].steps);
     CHECK(last.stages[k].unbalanced_force_ratio == whole.stages[k].unbalanced_force_ratio);
     CHECK(last.stages[k].sleeper_base == whole.stages[k].sleeper_base);
+    CHECK(last.stages[k].sleeper_base_start == whole.stages[k].sleeper_base_start);
     CHECK(last.stages[k].check_force_ratio == whole.stages[k].check_force_ratio);
     CHECK(last.stages[k].check_sleeper_base == whole.stages[k].check_sleeper_base);
   }
@@ -203,6 +204,7 @@ TEST_CASE("traffic presses the sleeper into the bed while its rails hold it acro
   REQUIRE(light_report.stages.size() == 5);
   CHECK(stopped.stages[3].name == "traffic");
   const double before = *stopped.stages[2].sleeper_base;
+  CHECK(stopped.stages[3].sleeper_base_start == before);  // the traffic starts where the consolidation left it
   const double loaded = *stopped.stages[3].sleeper_base;
   const double unloaded = *light_report.stages[3].sleeper_base;
   CAPTURE(before, loaded, unloaded);
