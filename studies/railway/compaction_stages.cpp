@@ -34,6 +34,7 @@ StageReport run_expansion(const PushStudyConfig& c, const StageSetup& settle, co
     total.wall_seconds += step.report.wall_seconds;
     total.unbalanced_force_ratio = step.report.unbalanced_force_ratio;
     total.sleeper_base = step.report.sleeper_base;
+    if (k == 0) total.sleeper_base_start = step.report.sleeper_base_start;
     if (!control.quiet)
       fmt::print(stderr, "expand: step {}/{}, sleeper base at z = {:.4f} m, unbalanced force ratio {:.2e}\n", k + 1,
                  steps, *total.sleeper_base, total.unbalanced_force_ratio);
