@@ -53,11 +53,12 @@ dem::MaterialTable stone_and_concrete(double friction) {
   return t;
 }
 
-}  // namespace
+constexpr double kBoxMass = 2.0;      // kg
+constexpr double kSphereRadius = 0.02;  // m
 
-TEST_CASE("a box free along z comes to rest on spheres, which carry its weight", "[box]") {
-  // Reference: statics. At rest the spheres push the box up with M g and the floor carries
-  // (M + sum m) g. Tolerance 1e-4 relative after 1 s with damping (residual oscillation).
+// Four spheres on a concrete floor and a box free along z over them, its base `gap` above their
+// tops, under a downward load (N).
+dem::Simulation box_on_four_spheres(double gap, double load) {
   dem::Domain domain;
   domain.min = Vec3(-0.5, -0.5, 0.0);
   domain.max = Vec3(0.5, 0.5, 0.5);
@@ -65,8 +66,7 @@ TEST_CASE("a box free along z comes to rest on spheres, which carry its weight",
   dem::PlaneWall floor;
   floor.material = 1;
   sim.add_wall(floor);
-  const double r = 0.02;
-  double sphere_mass = 0.0;
+  const double r = kSphereRadius;
   for (int k = 0; k < 4; ++k) {
     dem::SphereSpec s;
     s.position = Vec3(k % 2 ? 0.05 : -0.05, k / 2 ? 0.05 : -0.05, r);
@@ -76,18 +76,34 @@ TEST_CASE("a box free along z comes to rest on spheres, which carry its weight",
   dem::RigidBox box;
   box.name = "sleeper";
   box.half_extent = Vec3(0.1, 0.1, 0.02);
-  box.centre = Vec3(0.0, 0.0, 2.0 * r + 0.02 + 0.001);
-  box.mass = 2.0;
+  box.centre = Vec3(0.0, 0.0, 2.0 * r + 0.02 + gap);
+  box.mass = kBoxMass;
   box.material = 1;
   box.driven = {true, true, false};
+  box.applied_force = Vec3(0.0, 0.0, -load);
   sim.add_box(box);
   sim.prepare();
-  for (double m : sim.bodies().mass) sphere_mass += m;
+  return sim;
+}
+
+double total_mass(const dem::Simulation& sim) {
+  double m = 0.0;
+  for (double b : sim.bodies().mass) m += b;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("a box free along z comes to rest on spheres, which carry its weight", "[box]") {
+  // Reference: statics. At rest the spheres push the box up with M g and the floor carries
+  // (M + sum m) g. Tolerance 1e-4 relative after 1 s with damping (residual oscillation).
+  dem::Simulation sim = box_on_four_spheres(0.001, 0.0);
+  const double sphere_mass = total_mass(sim);
   while (sim.time() < 1.0) sim.step();
   const double g = 9.81;
   CAPTURE(sim.box_force(0).z(), sim.wall_force(0).z(), sim.boxes()[0].velocity.z());
-  CHECK(sim.box_force(0).z() == Approx(box.mass * g).epsilon(1e-4));
-  CHECK(-sim.wall_force(0).z() == Approx((box.mass + sphere_mass) * g).epsilon(1e-4));
+  CHECK(sim.box_force(0).z() == Approx(kBoxMass * g).epsilon(1e-4));
+  CHECK(-sim.wall_force(0).z() == Approx((kBoxMass + sphere_mass) * g).epsilon(1e-4));
   CHECK(std::abs(sim.boxes()[0].velocity.z()) < 1e-4);
 }
 
@@ -98,44 +114,20 @@ TEST_CASE("a load on a free box is carried by the spheres under it, and its work
   // box, set down touching, sinks by its two springs in series per sphere, ((M g + P) / 2 + m g)
   // / k (1e-3 relative), so the load does work P dz, which the energy account must hold:
   // |change of total| < 1 % of that work (the drive test's tolerance).
-  dem::Domain domain;
-  domain.min = Vec3(-0.5, -0.5, 0.0);
-  domain.max = Vec3(0.5, 0.5, 0.5);
-  dem::Simulation sim(domain, stone_and_concrete(0.5), dem::SimulationSettings{});
-  dem::PlaneWall floor;
-  floor.material = 1;
-  sim.add_wall(floor);
-  const double r = 0.02;
-  for (int k = 0; k < 4; ++k) {
-    dem::SphereSpec s;
-    s.position = Vec3(k % 2 ? 0.05 : -0.05, k / 2 ? 0.05 : -0.05, r);
-    s.radius = r;
-    sim.add_sphere(s);
-  }
-  dem::RigidBox box;
-  box.name = "sleeper";
-  box.half_extent = Vec3(0.1, 0.1, 0.02);
-  box.centre = Vec3(0.0, 0.0, 2.0 * r + 0.02);  // touching
-  box.mass = 2.0;
-  box.material = 1;
-  box.driven = {true, true, false};
   const double load = 500.0;  // N, 25x the box's weight
-  box.applied_force = Vec3(0.0, 0.0, -load);
-  sim.add_box(box);
-  sim.prepare();
-  double sphere_mass = 0.0;
-  for (double m : sim.bodies().mass) sphere_mass += m;
+  dem::Simulation sim = box_on_four_spheres(0.0, load);
+  const double sphere_mass = total_mass(sim);
   const double e0 = sim.energy().total();
-  const double z0 = box.centre.z();
+  const double z0 = sim.boxes()[0].centre.z();
   while (sim.time() < 1.0) sim.step();
   const double g = 9.81;
   const dem::EnergyReport e = sim.energy();
   const double sink = z0 - sim.boxes()[0].centre.z();
   CAPTURE(sim.box_force(0).z(), sim.wall_force(0).z(), sink, e.work_by_walls, e.total() - e0);
-  CHECK(sim.box_force(0).z() == Approx(box.mass * g + load).epsilon(1e-4));
-  CHECK(-sim.wall_force(0).z() == Approx((box.mass + sphere_mass) * g + load).epsilon(1e-4));
+  CHECK(sim.box_force(0).z() == Approx(kBoxMass * g + load).epsilon(1e-4));
+  CHECK(-sim.wall_force(0).z() == Approx((kBoxMass + sphere_mass) * g + load).epsilon(1e-4));
   const double k = 2e6 * 5e9 / (2e6 + 5e9);  // stone against concrete, in series
-  const double per_sphere = (box.mass * g + load) / 4.0;
+  const double per_sphere = (kBoxMass * g + load) / 4.0;
   CHECK(sink == Approx((2.0 * per_sphere + sphere_mass / 4.0 * g) / k).epsilon(1e-3));
   CHECK(e.work_by_walls == Approx(load * sink).epsilon(1e-9));
   CHECK(std::abs(e.total() - e0) < 0.01 * e.work_by_walls);
