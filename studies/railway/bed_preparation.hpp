@@ -51,7 +51,8 @@
 //    rest to `equilibrium_ratio`, or at `max_settling_time` (then the report says "settled NO"
 //    and the command warns).
 // After every stage but the last the bed can be saved and the preparation stopped, and resumed
-// later (PreparationControl, preparation_checkpoint.hpp).
+// later (PreparationControl, preparation_checkpoint.hpp). Steps 4b-5c are in
+// compaction_stages.hpp, the run of one stage in preparation_stage.hpp.
 #include <filesystem>
 #include <optional>
 #include <string>
