@@ -120,7 +120,7 @@ StageReport run_traffic(const PushStudyConfig& c, const StageSetup& settle, cons
   bed.sleeper_centre = run.sim.boxes()[0].centre;
   if (!control.quiet)
     fmt::print(stderr, "traffic: {} pulses of {:.3g} kN, sleeper sunk {:.3f} mm in all\n", cycles, 1e-3 * load,
-               1e3 * (start - dem::box_bottom(run.sim.boxes()[0])));
+               1e3 * (*run.report.sleeper_base_start - *run.report.sleeper_base));
   return run.report;
 }
 

@@ -28,7 +28,7 @@ struct StageReport {
   // m: height of the sleeper's bottom face at the stage's end (none before the sleeper is in).
   // Shows what a stage did to it: sank it, lifted it, or (held) kept it at its height.
   std::optional<double> sleeper_base;
-  std::optional<double> sleeper_base_start;  // m, the same as the stage began
+  std::optional<double> sleeper_base_start;  // m, the sleeper's base height as the stage began
   // At every check: simulated time since the stage began (s), the unbalanced force ratio and the
   // kinetic energy over the energy scale. How the bed came to rest, or did not.
   std::vector<double> check_time, check_force_ratio, check_kinetic_ratio;
