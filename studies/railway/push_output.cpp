@@ -68,6 +68,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_doubles(file, "curve/support_base", column(r.curve, [](auto& s) { return s.support.base; }));
   write_doubles(file, "curve/support_crib", column(r.curve, [](auto& s) { return s.support.crib; }));
   write_doubles(file, "curve/support_shoulder", column(r.curve, [](auto& s) { return s.support.shoulder; }));
+  write_doubles(file, "curve/support_top", column(r.curve, [](auto& s) { return s.support.top; }));
   write_doubles(file, "curve/pressing_base", column(r.curve, [](auto& s) { return s.pressing.base; }));
   write_doubles(file, "curve/pressing_crib", column(r.curve, [](auto& s) { return s.pressing.crib; }));
   write_doubles(file, "curve/pressing_shoulder", column(r.curve, [](auto& s) { return s.pressing.shoulder; }));

@@ -42,6 +42,7 @@ from bench_common import (  # noqa: E402  (needs the path above)
     peer_env, provenance_lines, publish_report, rel, repo_path, report_path, require_time_tool,
     require_values, run_main, run_mfdem, run_peer_timed, set_toml_value, summarise, tail,
     timestamp, var_args, wait_until_idle)
+from clump_export import read_bed, write_clumps  # noqa: E402
 from sphere_bed import run_benchmark as sphere_bench  # noqa: E402
 
 try:
@@ -251,26 +252,6 @@ def box_top(templates: list[dict], n: int) -> float:
 
 
 # --- the settled bed ---------------------------------------------------------------------------
-def read_bed(state: Path) -> dict:
-    with h5py.File(state, "r") as f:
-        names = sorted(f["frames"].keys())
-        fr = f["frames"][names[-1]]
-        bed = {k: f[p][...] for k, p in [("mass", "bodies/mass"), ("inertia", "bodies/inertia"),
-                                          ("body", "elements/body"), ("radius", "elements/radius"),
-                                          ("offset", "elements/offset")]}
-        for k in ("position", "velocity", "angular_velocity", "orientation", "element_position"):
-            bed[k] = fr[k][...]
-        bed["time"] = float(fr.attrs["time"])
-    return bed
-
-
-def rotation(q) -> np.ndarray:
-    w, x, y, z = np.asarray(q) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
-
-
 def template_counts(bed: dict, templates: list[dict]) -> list[int]:
     """How many clumps of each template the bed holds (matched by mass: all volumes differ)."""
     masses = np.array([t["mass"] for t in templates])
@@ -291,39 +272,6 @@ def bed_geometry(bed: dict) -> dict:
             "top_centre": float(bed["element_position"][:, 2].max()),
             "solid_fraction": solid / top, "mean_mass": float(bed["mass"].mean()),
             "min_mass": float(bed["mass"].min()), "max_mass": float(bed["mass"].max())}
-
-
-def write_lammps_inputs(bed: dict, data: Path, bodies: Path, zbox: float) -> None:
-    """bed.data (pebbles, molecule = clump, per-clump density so that the pebble masses add up to
-    the clump mass) and bodies.txt (fix rigid/small infile: mfdem's mass, centre of mass, inertia
-    tensor, velocity and angular momentum)."""
-    body, radius, xe = bed["body"], bed["radius"], bed["element_position"]
-    nb, ne = len(bed["mass"]), len(radius)
-    pebble_volume = 4.0 / 3.0 * math.pi * radius ** 3
-    density = bed["mass"] / np.bincount(body, weights=pebble_volume, minlength=nb)
-    with data.open("w") as f:
-        f.write(f"clump_bed benchmark: mfdem's settled bed, {nb} clumps of pebbles "
-                "(type 1 pebbles, type 2 labels the walls)\n\n")
-        f.write(f"{ne} atoms\n2 atom types\n\n0.0 1.0 xlo xhi\n0.0 1.0 ylo yhi\n"
-                f"-0.1 {zbox!r} zlo zhi\n\nAtoms\n\n")
-        for e in range(ne):
-            f.write(f"{e + 1} 1 {2.0 * radius[e]!r} {density[body[e]]!r} "
-                    f"{xe[e, 0]!r} {xe[e, 1]!r} {xe[e, 2]!r}\n")
-        f.write("\nMolecules\n\n")
-        for e in range(ne):
-            f.write(f"{e + 1} {body[e] + 1}\n")
-    with bodies.open("w") as f:
-        f.write("# clump_bed benchmark: fix rigid/small infile from mfdem's settled bed\n"
-                "# ID masstotal xcm ycm zcm ixx iyy izz ixy ixz iyz vxcm vycm vzcm lx ly lz "
-                "ixcm iycm izcm\n")
-        f.write(f"{nb}\n")
-        for b in range(nb):
-            r = rotation(bed["orientation"][b])
-            t = r @ np.diag(bed["inertia"][b]) @ r.T
-            ang = t @ bed["angular_velocity"][b]
-            x, v = bed["position"][b], bed["velocity"][b]
-            vals = [bed["mass"][b], *x, t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2], *v, *ang]
-            f.write(f"{b + 1} " + " ".join(repr(float(z)) for z in vals) + " 0 0 0\n")
 
 
 def write_timed_scene(path: Path, state: Path, steps: int, zbox: float) -> None:
@@ -653,7 +601,8 @@ def main() -> int:
         f"{geo['solid_fraction']:.3f}; templates {counts}")
     if geo["top"] > zbox - 0.1:
         raise BenchmarkError(f"the bed top {geo['top']:.3f} m is too close to the box top {zbox} m")
-    write_lammps_inputs(bed, workdir / "bed.data", workdir / "bodies.txt", zbox)
+    write_clumps(bed, workdir / "bed.data", workdir / "bodies.txt", (0.0, 0.0, -0.1), (1.0, 1.0, zbox),
+                 "clump_bed benchmark: mfdem's settled bed")
     scene = workdir / "bed.toml"
     write_timed_scene(scene, state, steps, zbox)
     # 2. LIGGGHTS's bed

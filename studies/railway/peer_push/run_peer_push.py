@@ -1,0 +1,306 @@
+#!/usr/bin/python3
+"""Peer cross-check of the lateral push: the same packing pushed by mfdem and by LAMMPS.
+
+The sleeper is held vertically and does not turn in both codes (mfdem's
+`[push] sleeper_vertical = "held"`; in LAMMPS a block region moving along x, see in.push.lmp),
+so that it can be a LAMMPS wall. Both start from the packing's positions and velocities without
+contact history (LAMMPS cannot read mfdem's shear springs; mfdem is given a copy of the packing
+without them). Contact law, masses, time step, velocity ramp and the force record (mean over
+each record interval) are the same. Reported: F(u) of both, the peak force and the vertical force
+on the sleeper, their differences, and the wall time of each code (one thread / one rank each by
+default), as a figure and a report.
+
+Usage: /usr/bin/python3 studies/railway/peer_push/run_peer_push.py PACKING_DIR --out DIR
+       [--config TOML] [--velocity MM_S] [--distance MM] [--threads N] [--ranks N]
+Needs Debian's python3 (h5py, numpy, matplotlib) and the lammps package.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
+from bench_common import (  # noqa: E402  (needs the path above)
+    BenchmarkError, machine_description, mfdem_env, mpi_prefix, peer_env, provenance_lines,
+    rel, repo_path, run_main, set_toml_value, var_args)
+from clump_export import read_bed, write_clumps  # noqa: E402
+
+try:
+    import h5py
+    import numpy as np
+except ImportError as exc:
+    sys.exit(f"run_peer_push.py: error: {exc}; run it with /usr/bin/python3 (Debian's, with "
+             "python3-h5py and python3-numpy)")
+
+# Table 1 (mfdem's defaults for the railway section, studies/railway/push_config.cpp)
+BALLAST_K, WALL_K = 2e7, 5e9     # N/m per material, mixed in series
+MU = 0.5
+BETA = 0.2                       # normal viscous damping, fraction of critical, every pair
+GRAVITY = 9.81
+
+
+def series(a: float, b: float) -> float:
+    return a * b / (a + b)
+
+
+def tsuji_alpha(e: float) -> float:
+    """LAMMPS `damping tsuji`: eta_n = alpha(e) sqrt(m_eff kn) (Tsuji et al. 1992 fit)."""
+    return (1.2728 - 4.2783 * e + 11.087 * e ** 2 - 22.348 * e ** 3 + 27.467 * e ** 4
+            - 18.022 * e ** 5 + 4.8218 * e ** 6)
+
+
+def tsuji_restitution(alpha: float) -> float:
+    """The e whose alpha(e) is `alpha` (alpha falls monotonically from 1.27 at e = 0)."""
+    lo, hi = 0.0, 1.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if tsuji_alpha(mid) > alpha else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+# --- the study's settings -------------------------------------------------------------------
+def read_config(text: str, source: str) -> dict:
+    """The [push] settings; refuses what the LAMMPS side does not model."""
+    cfg = tomllib.loads(text)
+    for table in ("materials", "pair"):
+        if table in cfg:
+            raise BenchmarkError(f"{source}: [{table}] is set; the peer push models Table 1's "
+                                 "materials only (remove it or extend in.push.lmp)")
+    push = cfg.get("push", {})
+    if push.get("local_damping", 0.0) != 0.0:
+        raise BenchmarkError(f"{source}: [push] local_damping = {push['local_damping']}: "
+                             "expected 0 (LAMMPS has no PFC local damping)")
+    return {"velocity": push.get("velocity", 0.05), "distance": push.get("distance", 5e-3),
+            "record_interval": push.get("record_interval", 2e-5),
+            "ramp_distance": push.get("ramp_distance", 1e-4),
+            "time_step_safety": cfg.get("time_step_safety", 0.4),
+            "periodic": cfg.get("section", {}).get("along_track", "periodic") == "periodic"}
+
+
+def held_config(text: str) -> str:
+    """The config with the sleeper held vertically in the push."""
+    if re.search(r"^\s*sleeper_vertical\s*=", text, re.M):
+        return set_toml_value(text, "push", "sleeper_vertical", '"held"')
+    if not re.search(r"^\[push\]", text, re.M):
+        return text + '\n[push]\nsleeper_vertical = "held"\n'
+    return re.sub(r"^(\[push\][^\n]*\n)", r'\1sleeper_vertical = "held"  # peer push\n', text,
+                  count=1, flags=re.M)
+
+
+def packing_without_history(src: Path, dst: Path) -> None:
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(src, dst)
+    with h5py.File(dst, "r+") as f:
+        if "springs" in f["packing"]:
+            del f["packing/springs"]
+
+
+# --- the two runs ---------------------------------------------------------------------------
+def run_mfdem(exe: Path, packing: Path, config: Path, s: dict, threads: int, out: Path) -> dict:
+    cmd = [str(exe), "push", str(packing), "--config", str(config), "--threads", str(threads),
+           "--velocity", repr(s["velocity"] * 1e3), "--distance", repr(s["distance"] * 1e3),
+           "--out", str(out)]
+    print("mfdem:", " ".join(cmd), flush=True)
+    start = time.monotonic()
+    done = subprocess.run(cmd, env=mfdem_env(threads))
+    seconds = time.monotonic() - start
+    if done.returncode != 0:
+        raise BenchmarkError(f"mfdem push failed (exit {done.returncode}); see above")
+    with h5py.File(out / "push.h5", "r") as f:
+        return {"u": f["curve/u"][...], "F": f["curve/force"][...],
+                "support": sum(f[f"curve/support_{p}"][...]
+                               for p in ("base", "crib", "shoulder", "top")), "dt": float(f.attrs["time_step"]),
+                "steps": int(f.attrs["steps"]), "elements": int(f.attrs["elements"]),
+                "peak": float(f.attrs["peak_force"]), "seconds": seconds,
+                "status": f.attrs["status"].decode() if isinstance(f.attrs["status"], bytes)
+                else str(f.attrs["status"])}
+
+
+def lammps_variables(attrs, s: dict, dt: float, steps: int, nrec: int) -> dict:
+    kn, kw = series(BALLAST_K, BALLAST_K), series(BALLAST_K, WALL_K)
+    c = [attrs[f"sleeper_centre_{a}"] for a in "xyz"]
+    h = [attrs[f"sleeper_half_extent_{a}"] for a in "xyz"]
+    v = {"dt": dt, "steps": steps, "nrec": nrec, "kn": kn, "kt": kn, "kn_wall": kw, "kt_wall": kw,
+         "e_tsuji": tsuji_restitution(2.0 * BETA), "mu": MU, "mu_wall": MU, "gravity": GRAVITY,
+         "vel": s["velocity"], "tr": 2.0 * min(s["ramp_distance"], s["distance"]) / s["velocity"],
+         "boundary": "f p f" if s["periodic"] else "f f f", "track_walls": 0 if s["periodic"] else 1}
+    for i, a in enumerate("xyz"):
+        v[f"{a}lo"], v[f"{a}hi"] = c[i] - h[i], c[i] + h[i]
+    if v["tr"] <= 0.0:
+        raise BenchmarkError("[push] ramp_distance must be positive for the LAMMPS ramp")
+    return v
+
+
+def read_columns(path: Path) -> np.ndarray:
+    rows = [l.split() for l in path.read_text().splitlines() if l.strip() and not l.startswith("#")]
+    return np.array(rows, dtype=float).reshape(-1, len(rows[0]) if rows else 1)
+
+
+def run_lammps(exe: str, packing: Path, s: dict, dt: float, ranks: int, out: Path) -> dict:
+    out.mkdir(parents=True, exist_ok=True)
+    bed = read_bed(packing)
+    with h5py.File(packing, "r") as f:
+        attrs = dict(f["packing"].attrs)
+    lo = [attrs[f"domain_min_{a}"] for a in "xyz"]
+    hi = [attrs[f"domain_max_{a}"] for a in "xyz"]
+    write_clumps(bed, out / "bed.data", out / "bodies.txt", lo, hi, f"peer push of {rel(packing)}")
+    ramp_time = 2.0 * min(s["ramp_distance"], s["distance"]) / s["velocity"]
+    # mfdem's step count: the distance at full speed plus half the ramp.
+    steps = round((s["distance"] + 0.5 * s["velocity"] * ramp_time) / (s["velocity"] * dt))
+    nrec = max(1, round(s["record_interval"] / (s["velocity"] * dt)))
+    variables = lammps_variables(attrs, s, dt, steps, nrec)
+    cmd = mpi_prefix(ranks) + [exe, "-in", str(HERE / "in.push.lmp"), "-log", "log.lammps",
+                               "-screen", "none"] + var_args(variables)
+    print(f"LAMMPS: {len(bed['radius'])} pebbles in {len(bed['mass'])} clumps, {steps} steps of "
+          f"{dt:.4g} s, {ranks} rank(s)", flush=True)
+    start = time.monotonic()
+    proc = subprocess.Popen(cmd, cwd=out, env=peer_env())
+    while proc.poll() is None:
+        time.sleep(2.0)
+        show_progress(out / "displacement.txt", s["distance"], time.monotonic() - start)
+    seconds = time.monotonic() - start
+    print(file=sys.stderr)
+    if proc.returncode != 0:
+        raise BenchmarkError(f"LAMMPS failed (exit {proc.returncode}); see {rel(out / 'log.lammps')}")
+    force, disp = read_columns(out / "force.txt"), read_columns(out / "displacement.txt")
+    n = min(len(force), len(disp) - 1)
+    # Row k of force.txt is the mean over steps (k-1) nrec + 1 .. k nrec, as mfdem's record;
+    # displacement.txt starts with step 0.
+    return {"u": np.concatenate([[0.0], disp[1:n + 1, 1]]),
+            "F": np.concatenate([[math.nan], force[:n, 1]]),
+            "support": np.concatenate([[math.nan], -force[:n, 2]]),
+            "steps": steps, "seconds": seconds, "elements": len(bed["radius"])}
+
+
+def show_progress(path: Path, distance: float, elapsed: float) -> None:
+    try:
+        last = path.read_text().strip().splitlines()[-1].split()
+        u = float(last[1])
+    except (OSError, IndexError, ValueError):
+        return
+    frac = min(1.0, max(u / distance, 1e-9))
+    eta = elapsed * (1.0 - frac) / frac
+    print(f"\rLAMMPS push {100 * frac:5.1f} %  u = {u * 1e3:.3f} mm  elapsed {elapsed:.0f} s  "
+          f"ETA {eta:.0f} s   ", end="", file=sys.stderr, flush=True)
+
+
+# --- comparison -----------------------------------------------------------------------------
+def compare(m: dict, l: dict, s: dict) -> dict:
+    """Differences on mfdem's record points (LAMMPS interpolated in u)."""
+    ok = np.isfinite(l["F"])
+    lf = np.interp(m["u"], l["u"][ok], l["F"][ok])
+    ls = np.interp(m["u"], l["u"][ok], l["support"][ok])
+    i_m, i_l = int(np.nanargmax(m["F"])), int(np.nanargmax(np.where(ok, l["F"], -np.inf)))
+    peak_m, peak_l = float(m["F"][i_m]), float(l["F"][i_l])
+    return {"peak_m": peak_m, "peak_l": peak_l, "u_peak_m": float(m["u"][i_m]),
+            "u_peak_l": float(l["u"][i_l]), "peak_diff": peak_l / peak_m - 1.0,
+            "rms_diff": float(np.sqrt(np.mean((lf[1:] - m["F"][1:]) ** 2))) / peak_m,
+            "support_m": float(m["support"][i_m]), "support_l": float(ls[i_m]),
+            "at_mm": [(u, float(np.interp(u * 1e-3, m["u"], m["F"])),
+                       float(np.interp(u * 1e-3, m["u"], lf))) for u in (0.5, 1, 2, 3, 4, 5)
+                      if u * 1e-3 <= s["distance"] + 1e-12]}
+
+
+def plot(m: dict, l: dict, png: Path, title: str) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    ax.plot(m["u"] * 1e3, m["F"] * 1e-3, label="mfdem", lw=1.2)
+    ax.plot(l["u"] * 1e3, l["F"] * 1e-3, label="LAMMPS (fix rigid/small, pair granular)", lw=1.0)
+    ax.set_xlabel("sleeper displacement u (mm)")
+    ax.set_ylabel("lateral force F (kN)")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(png, dpi=130)
+
+
+def report(args, packing: Path, s: dict, m: dict, l: dict, c: dict, png: Path) -> str:
+    pct = lambda x: f"{100 * x:+.2f} %"
+    lines = ["# Peer push: mfdem and LAMMPS on one packing, sleeper held vertically", ""]
+    lines += provenance_lines("/usr/bin/python3")
+    lines += [f"Packing: `{rel(packing)}`; velocity {s['velocity'] * 1e3:g} mm/s to "
+              f"{s['distance'] * 1e3:g} mm; {m['elements']} pebbles; time step {m['dt']:.4g} s, "
+              f"{m['steps']} steps (mfdem), {l['steps']} (LAMMPS). Both start without contact "
+              "history. F(u): minus the sum of contact forces on the sleeper along the push, mean "
+              "over each record interval.", "",
+              "| | mfdem | LAMMPS | LAMMPS / mfdem - 1 |", "|---|---:|---:|---:|",
+              f"| peak lateral force (kN) | {c['peak_m'] * 1e-3:.4f} | {c['peak_l'] * 1e-3:.4f} | "
+              f"{pct(c['peak_diff'])} |",
+              f"| u at the peak (mm) | {c['u_peak_m'] * 1e3:.3f} | {c['u_peak_l'] * 1e3:.3f} | |",
+              f"| vertical force of the stones on the sleeper at mfdem's peak (kN) | "
+              f"{c['support_m'] * 1e-3:.4f} | {c['support_l'] * 1e-3:.4f} | "
+              f"{pct(c['support_l'] / c['support_m'] - 1.0)} |"]
+    for u, fm, fl in c["at_mm"]:
+        lines.append(f"| F at u = {u:g} mm (kN) | {fm * 1e-3:.4f} | {fl * 1e-3:.4f} | "
+                     f"{pct(fl / fm - 1.0)} |")
+    lines += [f"| wall time of the push (s) | {m['seconds']:.1f} ({args.threads} thread(s)) | "
+              f"{l['seconds']:.1f} ({args.ranks} rank(s)) | time ratio LAMMPS / mfdem "
+              f"{l['seconds'] / m['seconds']:.2f} |", "",
+              f"RMS of the difference of the curves over mfdem's record points: "
+              f"{100 * c['rms_diff']:.2f} % of mfdem's peak.", "",
+              f"![F(u) of both codes]({png.name})", "", "## Machine", ""]
+    lines += machine_description(repo_path(args.mfdem))
+    return "\n".join(lines) + "\n"
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("packing", help="packing.h5 or the directory `mfdem pack` wrote")
+    ap.add_argument("--out", required=True, help="result folder (report.md, peer_push.png, runs)")
+    ap.add_argument("--config", help="config whose [push] settings to use (default: the packing's)")
+    ap.add_argument("--velocity", type=float, help="mm/s (default: the config's)")
+    ap.add_argument("--distance", type=float, help="mm (default: the config's)")
+    ap.add_argument("--threads", type=int, default=1, help="mfdem OpenMP threads (default 1)")
+    ap.add_argument("--ranks", type=int, default=1, help="LAMMPS MPI ranks (default 1)")
+    ap.add_argument("--mfdem", default="build/studies/mfdem", help="the mfdem executable")
+    ap.add_argument("--lammps", default="lmp", help="the LAMMPS executable")
+    args = ap.parse_args()
+
+    packing = repo_path(args.packing)
+    packing = packing / "packing.h5" if packing.is_dir() else packing
+    if not packing.exists():
+        raise BenchmarkError(f"{args.packing}: no packing.h5 (expected what `mfdem pack` wrote)")
+    with h5py.File(packing, "r") as f:
+        own = f["packing"].attrs["config"]
+    text = repo_path(args.config).read_text() if args.config else (
+        own.decode() if isinstance(own, bytes) else str(own))
+    s = read_config(text, args.config or f"{rel(packing)} (its config)")
+    if args.velocity:
+        s["velocity"] = args.velocity * 1e-3
+    if args.distance:
+        s["distance"] = args.distance * 1e-3
+    out = repo_path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "held.toml").write_text(held_config(text))
+    bare = out / "packing_without_history" / "packing.h5"
+    packing_without_history(packing, bare)
+
+    m = run_mfdem(repo_path(args.mfdem), bare, out / "held.toml", s, args.threads, out / "mfdem")
+    if m["status"] != "finished":
+        raise BenchmarkError(f"mfdem's push ended '{m['status']}'")
+    l = run_lammps(args.lammps, packing, s, m["dt"], args.ranks, out / "lammps")
+    c = compare(m, l, s)
+    png = out / "peer_push.png"
+    plot(m, l, png, f"{rel(packing)}: held sleeper, {s['velocity'] * 1e3:g} mm/s")
+    text = report(args, packing, s, m, l, c, png)
+    (out / "report.md").write_text(text)
+    print(text)
+    print(f"written: {rel(out / 'report.md')}, {rel(png)}")
+    return 0
+
+
+if __name__ == "__main__":
+    run_main(main)
