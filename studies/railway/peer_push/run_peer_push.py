@@ -81,10 +81,10 @@ def read_config(text: str, source: str) -> dict:
     if push.get("local_damping", 0.0) != 0.0:
         raise BenchmarkError(f"{source}: [push] local_damping = {push['local_damping']}: "
                              "expected 0 (LAMMPS has no PFC local damping)")
+    # absent keys: mfdem's defaults (PushSettings in studies/railway/push_config.hpp)
     return {"velocity": push.get("velocity", 0.05), "distance": push.get("distance", 5e-3),
-            "record_interval": push.get("record_interval", 2e-5),
+            "record_interval": push.get("record_interval", 1e-5),
             "ramp_distance": push.get("ramp_distance", 1e-4),
-            "time_step_safety": cfg.get("time_step_safety", 0.4),
             "periodic": cfg.get("section", {}).get("along_track", "periodic") == "periodic"}
 
 
@@ -133,7 +133,8 @@ def lammps_variables(attrs, s: dict, dt: float, steps: int, nrec: int) -> dict:
     v = {"dt": dt, "steps": steps, "nrec": nrec, "kn": kn, "kt": kn, "kn_wall": kw, "kt_wall": kw,
          "e_tsuji": tsuji_restitution(2.0 * BETA), "mu": MU, "mu_wall": MU, "gravity": GRAVITY,
          "vel": s["velocity"], "tr": 2.0 * min(s["ramp_distance"], s["distance"]) / s["velocity"],
-         "boundary": "f p f" if s["periodic"] else "f f f", "track_walls": 0 if s["periodic"] else 1}
+         "boundary": "f p f" if s["periodic"] else "f f f", "track_walls": 0 if s["periodic"] else 1,
+         "track_lo": attrs["domain_min_y"], "track_hi": attrs["domain_max_y"]}
     for i, a in enumerate("xyz"):
         v[f"{a}lo"], v[f"{a}hi"] = c[i] - h[i], c[i] + h[i]
     if v["tr"] <= 0.0:
