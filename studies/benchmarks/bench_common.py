@@ -85,7 +85,7 @@ def run_main(main: Callable[[], int]) -> None:
     try:
         sys.exit(main())
     except BenchmarkError as e:
-        print(f"run_benchmark.py: error: {e}", file=sys.stderr)
+        print(f"{Path(sys.argv[0]).name}: error: {e}", file=sys.stderr)
         sys.exit(1)
 
 
