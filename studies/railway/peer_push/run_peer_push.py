@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Peer cross-check of the lateral push: the same packing pushed by mfdem and by LAMMPS.
 
-The sleeper is held vertically and does not turn in both codes (mfdem's
-`[push] sleeper_vertical = "held"`; in LAMMPS a block region moving along x, see in.push.lmp),
-so that it can be a LAMMPS wall. Both start from the packing's positions and velocities without
+The sleeper does not turn and is held vertically (default) or free vertically under its weight
+(`--sleeper free`) in both codes: mfdem's `[push] sleeper_vertical`, set in OUT/push.toml; in
+LAMMPS a block region of fix wall/gran/region driven along x, whose height follows one extra
+atom of the sleeper's mass (see in.push.lmp). Both start from the packing's positions and velocities without
 contact history (LAMMPS cannot read mfdem's shear springs; mfdem is given a copy of the packing
 without them). Contact law, masses, time step, velocity ramp and the force record (mean over
 each record interval) are the same. LAMMPS runs once per rank count (default 1 and 2): those runs
@@ -88,13 +89,13 @@ def read_config(text: str, source: str) -> dict:
             "periodic": cfg.get("section", {}).get("along_track", "periodic") == "periodic"}
 
 
-def held_config(text: str) -> str:
-    """The config with the sleeper held vertically in the push."""
+def with_sleeper(text: str, vertical: str) -> str:
+    """The config with [push] sleeper_vertical = `vertical` ("held" or "free")."""
     if re.search(r"^\s*sleeper_vertical\s*=", text, re.M):
-        return set_toml_value(text, "push", "sleeper_vertical", '"held"')
+        return set_toml_value(text, "push", "sleeper_vertical", f'"{vertical}"')
     if not re.search(r"^\[push\]", text, re.M):
-        return text + '\n[push]\nsleeper_vertical = "held"\n'
-    return re.sub(r"^(\[push\][^\n]*\n)", r'\1sleeper_vertical = "held"  # peer push\n', text,
+        return text + f'\n[push]\nsleeper_vertical = "{vertical}"\n'
+    return re.sub(r"^(\[push\][^\n]*\n)", rf'\1sleeper_vertical = "{vertical}"  # peer push\n', text,
                   count=1, flags=re.M)
 
 
@@ -119,7 +120,7 @@ def run_mfdem(exe: Path, packing: Path, config: Path, s: dict, threads: int, out
     with h5py.File(out / "push.h5", "r") as f:
         status = f.attrs["status"]
         # seconds: the push loop's own timer, as LAMMPS's "Loop time" (no start-up, no output).
-        return {"u": f["curve/u"][...], "F": f["curve/force"][...],
+        return {"u": f["curve/u"][...], "F": f["curve/force"][...], "heave": f["curve/heave"][...],
                 "support": sum(f[f"curve/support_{p}"][...] for p in ("base", "crib", "shoulder", "top")),
                 "dt": float(f.attrs["time_step"]), "steps": int(f.attrs["steps"]),
                 "elements": int(f.attrs["elements"]), "seconds": float(f.attrs["wall_seconds"]),
@@ -127,6 +128,7 @@ def run_mfdem(exe: Path, packing: Path, config: Path, s: dict, threads: int, out
 
 
 def lammps_variables(attrs, s: dict, dt: float, steps: int, nrec: int) -> dict:
+    """-var values of in.push.lmp."""
     kn, kw = series(BALLAST_K, BALLAST_K), series(BALLAST_K, WALL_K)
     c = [attrs[f"sleeper_centre_{a}"] for a in "xyz"]
     h = [attrs[f"sleeper_half_extent_{a}"] for a in "xyz"]
@@ -134,7 +136,8 @@ def lammps_variables(attrs, s: dict, dt: float, steps: int, nrec: int) -> dict:
          "e_tsuji": tsuji_restitution(2.0 * BETA), "mu": MU, "mu_wall": MU, "gravity": GRAVITY,
          "vel": s["velocity"], "tr": 2.0 * min(s["ramp_distance"], s["distance"]) / s["velocity"],
          "boundary": "f p f" if s["periodic"] else "f f f", "track_walls": 0 if s["periodic"] else 1,
-         "track_lo": attrs["domain_min_y"], "track_hi": attrs["domain_max_y"]}
+         "track_lo": attrs["domain_min_y"], "track_hi": attrs["domain_max_y"],
+         "sleeper_free": 1 if s["sleeper"] == "free" else 0, "sleeper_mass": attrs["sleeper_mass"]}
     for i, a in enumerate("xyz"):
         v[f"{a}lo"], v[f"{a}hi"] = c[i] - h[i], c[i] + h[i]
     if v["tr"] <= 0.0:
@@ -178,6 +181,7 @@ def run_lammps(exe: str, packing: Path, s: dict, dt: float, ranks: int, out: Pat
     # Row k of force.txt is the mean over steps (k-1) nrec + 1 .. k nrec, as mfdem's record;
     # displacement.txt starts with step 0.
     return {"u": np.concatenate([[0.0], disp[1:n + 1, 1]]),
+            "heave": np.concatenate([[0.0], disp[1:n + 1, 2]]),
             "F": np.concatenate([[math.nan], force[:n, 1]]),
             "support": np.concatenate([[math.nan], -force[:n, 2]]),
             "steps": steps, "seconds": loop_seconds(out / "log.lammps")}
@@ -258,7 +262,7 @@ def report(args, packing: Path, s: dict, runs: list[tuple[str, dict]], png: Path
     sums = [summary(run, ref) for _, run in runs]
     kn = lambda x: f"{x * 1e-3:.4f}"
     rel_to = lambda x, x0: f"{kn(x)} ({100 * (x / x0 - 1.0):+.1f} %)"
-    lines = ["# Peer push: mfdem and LAMMPS on one packing, sleeper held vertically", ""]
+    lines = [f"# Peer push: mfdem and LAMMPS on one packing, sleeper {s['sleeper']} vertically", ""]
     lines += provenance_lines("/usr/bin/python3")
     lines += [f"Packing: `{rel(packing)}`; velocity {s['velocity'] * 1e3:g} mm/s to "
               f"{s['distance'] * 1e3:g} mm; {ref['elements']} pebbles; time step {ref['dt']:.4g} s, "
@@ -275,6 +279,8 @@ def report(args, packing: Path, s: dict, runs: list[tuple[str, dict]], png: Path
     for k, (a, b, _) in enumerate(sums[0]["windows"]):
         lines.append(f"| mean F over u = {a * 1e3:.1f}-{b * 1e3:.1f} mm (kN) | " + " | ".join(
             rel_to(x["windows"][k][2], sums[0]["windows"][k][2]) for x in sums) + " |")
+    lines.append("| heave at u_end (mm) | " + " | ".join(
+        f"{run['heave'][np.isfinite(run['heave'])][-1] * 1e3:+.3f}" for _, run in runs) + " |")
     lines.append("| wall time of the push loop (s) | " + " | ".join(
         f"{run['seconds']:.1f}" + (f" ({run['seconds'] / ref['seconds']:.2f}x mfdem)" if k else "")
         for k, (_, run) in enumerate(runs)) + " |")
@@ -294,6 +300,8 @@ def main() -> int:
     ap.add_argument("packing", help="packing.h5 or the directory `mfdem pack` wrote")
     ap.add_argument("--out", required=True, help="result folder (report.md, peer_push.png, runs)")
     ap.add_argument("--config", help="config whose [push] settings to use (default: the packing's)")
+    ap.add_argument("--sleeper", choices=("held", "free"), default="held",
+                    help="the sleeper's vertical motion in both codes (default held)")
     ap.add_argument("--velocity", type=float, help="mm/s (default: the config's)")
     ap.add_argument("--distance", type=float, help="mm (default: the config's)")
     ap.add_argument("--threads", type=int, default=1, help="mfdem OpenMP threads (default 1)")
@@ -321,11 +329,12 @@ def main() -> int:
         s["distance"] = args.distance * 1e-3
     out = repo_path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "held.toml").write_text(held_config(text))
+    s["sleeper"] = args.sleeper
+    (out / "push.toml").write_text(with_sleeper(text, args.sleeper))
     bare = out / "packing_without_history" / "packing.h5"
     packing_without_history(packing, bare)
 
-    m = run_mfdem(repo_path(args.mfdem), bare, out / "held.toml", s, args.threads, out / "mfdem",
+    m = run_mfdem(repo_path(args.mfdem), bare, out / "push.toml", s, args.threads, out / "mfdem",
                   args.reuse)
     if m["status"] != "finished":
         raise BenchmarkError(f"mfdem's push ended '{m['status']}'")
@@ -335,7 +344,7 @@ def main() -> int:
                      run_lammps(args.lammps, packing, s, m["dt"], ranks, out / f"lammps_{ranks}",
                                 args.reuse)))
     png = out / "peer_push.png"
-    plot(runs, png, f"{rel(packing)}: held sleeper, {s['velocity'] * 1e3:g} mm/s")
+    plot(runs, png, f"{rel(packing)}: sleeper {s['sleeper']} vertically, {s['velocity'] * 1e3:g} mm/s")
     text = report(args, packing, s, runs, png)
     (out / "report.md").write_text(text)
     print(text)
