@@ -119,6 +119,11 @@ def run_mfdem(exe: Path, packing: Path, config: Path, s: dict, threads: int, out
             raise BenchmarkError("mfdem push failed; see above")
     with h5py.File(out / "push.h5", "r") as f:
         status = f.attrs["status"]
+        vertical = f.attrs["sleeper_vertical"]
+        vertical = vertical.decode() if isinstance(vertical, bytes) else str(vertical)
+        if vertical != s["sleeper"]:
+            raise BenchmarkError(f"{rel(out / 'push.h5')}: a push with the sleeper {vertical}, not "
+                                 f"{s['sleeper']}; give another --out")
         # seconds: the push loop's own timer, as LAMMPS's "Loop time" (no start-up, no output).
         return {"u": f["curve/u"][...], "F": f["curve/force"][...], "heave": f["curve/heave"][...],
                 "support": sum(f[f"curve/support_{p}"][...] for p in ("base", "crib", "shoulder", "top")),
@@ -176,6 +181,11 @@ def run_lammps(exe: str, packing: Path, s: dict, dt: float, ranks: int, out: Pat
         print(file=sys.stderr)
         if proc.returncode != 0:
             raise BenchmarkError(f"LAMMPS failed (exit {proc.returncode}); see {rel(out / 'log.lammps')}")
+    # the executed command stands alone on its line; the "if" line that holds it is echoed too
+    free = re.search(r"^fix sleeper_motion ", (out / "log.lammps").read_text(), re.M) is not None
+    if free != (s["sleeper"] == "free"):
+        raise BenchmarkError(f"{rel(out / 'log.lammps')}: a push with the sleeper "
+                             f"{'free' if free else 'held'}, not {s['sleeper']}; give another --out")
     force, disp = read_columns(out / "force.txt"), read_columns(out / "displacement.txt")
     n = min(len(force), len(disp) - 1)
     # Row k of force.txt is the mean over steps (k-1) nrec + 1 .. k nrec, as mfdem's record;
