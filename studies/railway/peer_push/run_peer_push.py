@@ -155,11 +155,9 @@ def read_columns(path: Path) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(-1, len(rows[0]) if rows else 1)
 
 
-def run_lammps(exe: str, packing: Path, s: dict, dt: float, ranks: int, out: Path,
+def run_lammps(exe: str, packing: Path, s: dict, dt: float, steps: int, ranks: int, out: Path,
                reuse: bool) -> dict:
-    ramp_time = 2.0 * min(s["ramp_distance"], s["distance"]) / s["velocity"]
-    # mfdem's step count: the distance at full speed plus half the ramp.
-    steps = round((s["distance"] + 0.5 * s["velocity"] * ramp_time) / (s["velocity"] * dt))
+    """The push in LAMMPS with mfdem's time step and number of steps."""
     if not (reuse and loop_seconds(out / "log.lammps") is not None):
         out.mkdir(parents=True, exist_ok=True)
         bed = read_bed(packing)
@@ -351,7 +349,7 @@ def main() -> int:
     runs = [(f"mfdem, {args.threads} thread(s)", m)]
     for ranks in args.ranks:
         runs.append((f"LAMMPS, {ranks} rank(s)",
-                     run_lammps(args.lammps, packing, s, m["dt"], ranks, out / f"lammps_{ranks}",
+                     run_lammps(args.lammps, packing, s, m["dt"], m["steps"], ranks, out / f"lammps_{ranks}",
                                 args.reuse)))
     png = out / "peer_push.png"
     plot(runs, png, f"{rel(packing)}: sleeper {s['sleeper']} vertically, {s['velocity'] * 1e3:g} mm/s")
