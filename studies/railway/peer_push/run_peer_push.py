@@ -150,27 +150,31 @@ def lammps_variables(attrs, s: dict, dt: float, steps: int, nrec: int) -> dict:
     return v
 
 
-def read_columns(path: Path) -> np.ndarray:
-    rows = [l.split() for l in path.read_text().splitlines() if l.strip() and not l.startswith("#")]
-    return np.array(rows, dtype=float).reshape(-1, len(rows[0]) if rows else 1)
+def lammps_bed(packing: Path, out: Path, reuse: bool) -> dict:
+    """The packing in LAMMPS's form, written once for every rank count: OUT/bed.data and
+    OUT/bodies.txt; returns their paths and the packing's attributes."""
+    with h5py.File(packing, "r") as f:
+        attrs = dict(f["packing"].attrs)
+    data, bodies = out / "bed.data", out / "bodies.txt"
+    if not (reuse and data.exists() and bodies.exists()):
+        bed = read_bed(packing)
+        lo = [attrs[f"domain_min_{a}"] for a in "xyz"]
+        hi = [attrs[f"domain_max_{a}"] for a in "xyz"]
+        write_clumps(bed, data, bodies, lo, hi, f"peer push of {rel(packing)}")
+    return {"attrs": attrs, "data": data, "bodies": bodies}
 
 
-def run_lammps(exe: str, packing: Path, s: dict, dt: float, steps: int, ranks: int, out: Path,
+def run_lammps(exe: str, bed: dict, s: dict, dt: float, steps: int, ranks: int, out: Path,
                reuse: bool) -> dict:
     """The push in LAMMPS with mfdem's time step and number of steps."""
     if not (reuse and loop_seconds(out / "log.lammps") is not None):
         out.mkdir(parents=True, exist_ok=True)
-        bed = read_bed(packing)
-        with h5py.File(packing, "r") as f:
-            attrs = dict(f["packing"].attrs)
-        lo = [attrs[f"domain_min_{a}"] for a in "xyz"]
-        hi = [attrs[f"domain_max_{a}"] for a in "xyz"]
-        write_clumps(bed, out / "bed.data", out / "bodies.txt", lo, hi, f"peer push of {rel(packing)}")
         nrec = max(1, round(s["record_interval"] / (s["velocity"] * dt)))
+        variables = lammps_variables(bed["attrs"], s, dt, steps, nrec)
+        variables.update(datafile=str(bed["data"]), bodyfile=str(bed["bodies"]))
         cmd = mpi_prefix(ranks) + [exe, "-in", str(HERE / "in.push.lmp"), "-log", "log.lammps",
-                                   "-screen", "none"] + var_args(lammps_variables(attrs, s, dt, steps, nrec))
-        print(f"LAMMPS: {len(bed['radius'])} pebbles in {len(bed['mass'])} clumps, {steps} steps "
-              f"of {dt:.4g} s, {ranks} rank(s)", flush=True)
+                                   "-screen", "none"] + var_args(variables)
+        print(f"LAMMPS: {steps} steps of {dt:.4g} s, {ranks} rank(s)", flush=True)
         start = time.monotonic()
         proc = subprocess.Popen(cmd, cwd=out, env=peer_env())
         while proc.poll() is None:
@@ -184,7 +188,8 @@ def run_lammps(exe: str, packing: Path, s: dict, dt: float, steps: int, ranks: i
     if free != (s["sleeper"] == "free"):
         raise BenchmarkError(f"{rel(out / 'log.lammps')}: a push with the sleeper "
                              f"{'free' if free else 'held'}, not {s['sleeper']}; give another --out")
-    force, disp = read_columns(out / "force.txt"), read_columns(out / "displacement.txt")
+    force = np.loadtxt(out / "force.txt", ndmin=2)
+    disp = np.loadtxt(out / "displacement.txt", ndmin=2)
     n = min(len(force), len(disp) - 1)
     # Row k of force.txt is the mean over steps (k-1) nrec + 1 .. k nrec, as mfdem's record;
     # displacement.txt starts with step 0.
@@ -340,16 +345,18 @@ def main() -> int:
     s["sleeper"] = args.sleeper
     (out / "push.toml").write_text(with_sleeper(text, args.sleeper))
     bare = out / "packing_without_history" / "packing.h5"
-    packing_without_history(packing, bare)
+    if not (args.reuse and (out / "mfdem" / "push.h5").exists()):
+        packing_without_history(packing, bare)
 
     m = run_mfdem(repo_path(args.mfdem), bare, out / "push.toml", s, args.threads, out / "mfdem",
                   args.reuse)
     if m["status"] != "finished":
         raise BenchmarkError(f"mfdem's push ended '{m['status']}'")
     runs = [(f"mfdem, {args.threads} thread(s)", m)]
+    bed = lammps_bed(packing, out, args.reuse)
     for ranks in args.ranks:
         runs.append((f"LAMMPS, {ranks} rank(s)",
-                     run_lammps(args.lammps, packing, s, m["dt"], m["steps"], ranks, out / f"lammps_{ranks}",
+                     run_lammps(args.lammps, bed, s, m["dt"], m["steps"], ranks, out / f"lammps_{ranks}",
                                 args.reuse)))
     png = out / "peer_push.png"
     plot(runs, png, f"{rel(packing)}: sleeper {s['sleeper']} vertically, {s['velocity'] * 1e3:g} mm/s")
