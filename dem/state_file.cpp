@@ -14,6 +14,33 @@ namespace {
 
 std::string frame_name(int frame) { return fmt::format("frames/{:06d}", frame); }
 
+// PATH.xdmf for the frames of PATH: ParaView reads the element positions, radii, bodies and
+// velocities of every frame from the HDF5 file, named relative to the XDMF file.
+void write_xdmf_file(const std::filesystem::path& path, const std::vector<double>& frame_times, long long elements) {
+  std::filesystem::path xdmf = path;
+  xdmf.replace_extension(".xdmf");
+  std::ofstream out(xdmf);
+  const std::string h5 = path.filename().string();
+  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+      << "<Grid Name=\"elements\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t f = 0; f < frame_times.size(); ++f) {
+    const std::string frame = frame_name(static_cast<int>(f));
+    out << fmt::format("<Grid Name=\"frame{0}\" GridType=\"Uniform\">\n<Time Value=\"{1:.9g}\"/>\n"
+                       "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{2}\"/>\n"
+                       "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{2} 3\" "
+                       "Format=\"HDF\" Precision=\"8\">{3}:/{4}/element_position</DataItem></Geometry>\n"
+                       "<Attribute Name=\"radius\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                       "Format=\"HDF\" Precision=\"8\">{3}:/elements/radius</DataItem></Attribute>\n"
+                       "<Attribute Name=\"body\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                       "NumberType=\"Int\" Format=\"HDF\">{3}:/elements/body</DataItem></Attribute>\n"
+                       "<Attribute Name=\"velocity\" Center=\"Node\" AttributeType=\"Vector\">"
+                       "<DataItem Dimensions=\"{2} 3\" Format=\"HDF\" Precision=\"8\">{3}:/{4}/"
+                       "element_velocity</DataItem></Attribute>\n</Grid>\n",
+                       f, frame_times[f], elements, h5, frame);
+  }
+  out << "</Grid>\n</Domain>\n</Xdmf>\n";
+}
+
 }  // namespace
 
 StateFile::StateFile(const std::filesystem::path& path, const Simulation& sim, std::string note)
@@ -134,29 +161,21 @@ void StateFile::append_series(const Simulation& sim, double time) {
   }
 }
 
-void StateFile::write_xdmf() const {
-  std::filesystem::path xdmf = path_;
-  xdmf.replace_extension(".xdmf");
-  std::ofstream out(xdmf);
-  const std::string h5 = path_.filename().string();
-  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-      << "<Grid Name=\"elements\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (int f = 0; f < frames_; ++f) {
-    const std::string frame = frame_name(f);
-    out << fmt::format("<Grid Name=\"frame{0}\" GridType=\"Uniform\">\n<Time Value=\"{1:.9g}\"/>\n"
-                       "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{2}\"/>\n"
-                       "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{2} 3\" "
-                       "Format=\"HDF\" Precision=\"8\">{3}:/{4}/element_position</DataItem></Geometry>\n"
-                       "<Attribute Name=\"radius\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
-                       "Format=\"HDF\" Precision=\"8\">{3}:/elements/radius</DataItem></Attribute>\n"
-                       "<Attribute Name=\"body\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
-                       "NumberType=\"Int\" Format=\"HDF\">{3}:/elements/body</DataItem></Attribute>\n"
-                       "<Attribute Name=\"velocity\" Center=\"Node\" AttributeType=\"Vector\">"
-                       "<DataItem Dimensions=\"{2} 3\" Format=\"HDF\" Precision=\"8\">{3}:/{4}/"
-                       "element_velocity</DataItem></Attribute>\n</Grid>\n",
-                       f, frame_times_[f], elements_, h5, frame);
+void StateFile::write_xdmf() const { write_xdmf_file(path_, frame_times_, elements_); }
+
+void write_xdmf_companion(const std::filesystem::path& path) {
+  const int frames = count_frames(path);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("cannot open HDF5 file " + path.string());
+  std::vector<double> times;
+  for (int f = 0; f < frames; ++f) {
+    const hid_t g = H5Gopen2(file, frame_name(f).c_str(), H5P_DEFAULT);
+    times.push_back(read_attribute(g, "time"));
+    H5Gclose(g);
   }
-  out << "</Grid>\n</Domain>\n</Xdmf>\n";
+  const auto elements = static_cast<long long>(read_doubles(file, "elements/radius").size());
+  H5Fclose(file);
+  write_xdmf_file(path, times, elements);
 }
 
 std::vector<ClumpSpec> bodies_of(const StateFrame& f, const std::vector<int>& material_of) {

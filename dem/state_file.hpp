@@ -75,6 +75,9 @@ struct StateFrame {
 };
 
 int count_frames(const std::filesystem::path& path);
+// (Re)writes `path` with extension .xdmf from the frames `path` holds: for a state file written
+// under another name and renamed (the XDMF names its HDF5 file).
+void write_xdmf_companion(const std::filesystem::path& path);
 StateFrame read_frame(const std::filesystem::path& path, int frame);
 // The bodies of a frame, ready for Simulation::add_clump (a sphere comes back as a one-pebble
 // clump at its centre, which the solver treats exactly as a sphere). material_of maps the

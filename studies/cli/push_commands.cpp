@@ -87,8 +87,7 @@ std::optional<fs::path> pack(const PackOptions& o) {
     return std::nullopt;
   }
   const fs::path file = o.common.out / "packing.h5";
-  railway::save_packing(file, *packing);
-  railway::append_stage_reports(file, report.stages);
+  railway::save_finished_packing(file, *packing, report.stages);
   fs::remove(control.checkpoint);  // the packing holds all of it now
   print_preparation(std::cout, *packing, report);
   fmt::print("  written: {}\n", file.string());

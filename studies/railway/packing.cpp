@@ -145,6 +145,20 @@ void save_packing(const std::filesystem::path& path, const Packing& p, const Sta
   H5Fclose(file);
 }
 
+std::filesystem::path partial_path(const std::filesystem::path& path) {
+  std::filesystem::path partial = path;
+  return partial.replace_extension(".partial.h5");
+}
+
+void save_finished_packing(const std::filesystem::path& path, const Packing& p, const std::vector<StageReport>& stages) {
+  const std::filesystem::path partial = partial_path(path);
+  save_packing(partial, p);
+  append_stage_reports(partial, stages);
+  std::filesystem::rename(partial, path);
+  std::filesystem::remove(std::filesystem::path(partial).replace_extension(".xdmf"));
+  dem::write_xdmf_companion(path);
+}
+
 void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages) {
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("cannot reopen " + path.string());

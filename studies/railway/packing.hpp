@@ -70,6 +70,13 @@ void save_packing(const std::filesystem::path& path, const Packing& packing, con
                   const std::string& what);
 // Adds the preparation stages' reports to a saved packing (/packing/stages).
 void append_stage_reports(const std::filesystem::path& path, const std::vector<StageReport>& stages);
+// The finished packing and its stage reports: written beside `path` (.partial.h5) and renamed
+// over it with its .xdmf, so that a run stopped while writing leaves no packing.h5 that lacks
+// part of it.
+void save_finished_packing(const std::filesystem::path& path, const Packing& packing,
+                           const std::vector<StageReport>& stages);
+// The path a packing or checkpoint is written to before it is renamed to `path`.
+std::filesystem::path partial_path(const std::filesystem::path& path);
 // The stage reports of a saved packing, in the order they ran (none for an older packing).
 std::vector<StageReport> read_stage_reports(const std::filesystem::path& path);
 // Throws std::runtime_error naming the file and what is missing.

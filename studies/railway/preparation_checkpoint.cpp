@@ -104,8 +104,7 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   for (const auto& s : report.stages) p.preparation_time += s.simulated_time;
   p.unbalanced_force_ratio = report.stages.empty() ? 0.0 : report.stages.back().unbalanced_force_ratio;
   // Written beside and renamed over the last one: a run stopped mid-write keeps a whole file.
-  fs::path partial = path;
-  partial.replace_extension(".partial.h5");
+  const fs::path partial = partial_path(path);
   save_packing(partial, p, setup, "preparation checkpoint before stage " + next_stage);
   append_stage_reports(partial, report.stages);
   const hid_t file = H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);

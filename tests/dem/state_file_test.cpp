@@ -117,4 +117,11 @@ TEST_CASE("state frames written to HDF5 read back identically, with an XDMF file
   }
   CHECK_THAT(xdmf, Catch::Matchers::Contains("state.h5:/elements/radius"));
   CHECK_THAT(xdmf, Catch::Matchers::Contains("NumberOfElements=\"27\""));
+
+  // Rebuilt from the file alone (after a rename), the companion is the one written while running.
+  std::filesystem::remove(xdmf_path);
+  mfdem::dem::write_xdmf_companion(path);
+  std::ostringstream rebuilt;
+  rebuilt << std::ifstream(xdmf_path).rdbuf();
+  CHECK(rebuilt.str() == xdmf);
 }

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <hdf5.h>
 
@@ -60,6 +61,16 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
   REQUIRE(pack.status == 0);
   CHECK_THAT(pack.out, Catch::Contains("Packed bed: tiny (seed 7)"));
   CHECK_FALSE(std::filesystem::exists(bed + "/checkpoint.h5"));  // removed once the packing is written
+  // Written as packing.partial.h5 and renamed: nothing of the partial file stays, and the XDMF
+  // names the packing by its final name (ParaView opens it).
+  CHECK_FALSE(std::filesystem::exists(bed + "/packing.partial.h5"));
+  CHECK_FALSE(std::filesystem::exists(bed + "/packing.partial.xdmf"));
+  {
+    std::ifstream in(bed + "/packing.xdmf");
+    const std::string xdmf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    CHECK_THAT(xdmf, Catch::Contains(">packing.h5:/frames/000000/element_position<") &&
+                         !Catch::Contains("partial"));
+  }
   {  // The packing keeps how each stage came to rest: a check every 2 ms of simulated time
      // (stage_runner.hpp), the last within one interval of the stage's end.
     const hid_t file = H5Fopen((bed + "/packing.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
