@@ -177,9 +177,12 @@ def run_lammps(exe: str, bed: dict, s: dict, dt: float, steps: int, ranks: int, 
         print(f"LAMMPS: {steps} steps of {dt:.4g} s, {ranks} rank(s)", flush=True)
         start = time.monotonic()
         proc = subprocess.Popen(cmd, cwd=out, env=peer_env())
-        while proc.poll() is None:
-            time.sleep(2.0)
-            show_progress(out / "displacement.txt", s["distance"], time.monotonic() - start)
+        while True:
+            try:
+                proc.wait(timeout=2.0)  # returns as soon as LAMMPS ends: the caller may time it
+                break
+            except subprocess.TimeoutExpired:
+                show_progress(out / "displacement.txt", s["distance"], time.monotonic() - start)
         print(file=sys.stderr)
         if proc.returncode != 0:
             raise BenchmarkError(f"LAMMPS failed (exit {proc.returncode}); see {rel(out / 'log.lammps')}")
