@@ -27,6 +27,7 @@ struct PackOptions {
   bool resume = false;
   std::string stop_after;
   std::string deposit_from;
+  std::string continue_from;
 };
 
 struct PushOptions {
@@ -42,9 +43,11 @@ fs::path packing_file(const fs::path& given) {
 }
 
 void print_preparation(std::ostream& out, const railway::Packing& p, const railway::PreparationReport& r) {
-  fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({} generated, {} trimmed), time step {:.3g} s\n",
-             p.config.name, p.config.seed, p.stones.size(), p.element_count(), r.stones_generated,
-             r.stones_removed, r.time_step);
+  const std::string origin = r.continued_from.empty()
+                                 ? fmt::format("{} generated, {} trimmed", r.stones_generated, r.stones_removed)
+                                 : "continued from " + r.continued_from;
+  fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({}), time step {:.3g} s\n", p.config.name,
+             p.config.seed, p.stones.size(), p.element_count(), origin, r.time_step);
   fmt::print(out, "  {:<10} {:>12} {:>10} {:>16} {:>9} {:>10} {:>16}\n", "stage", "simulated s", "steps",
              "unbalanced ratio", "settled", "wall", "sleeper base (m)");
   for (const auto& s : r.stages)
@@ -72,6 +75,13 @@ std::optional<fs::path> pack(const PackOptions& o) {
     if (fs::exists(control.deposit_from) && fs::equivalent(control.deposit_from, control.checkpoint))
       throw std::runtime_error(fmt::format("--deposit-from {} is this run's own checkpoint, which its stages "
                                            "overwrite; give another --out", control.deposit_from.string()));
+  }
+  if (!o.continue_from.empty()) {
+    control.continue_from = packing_file(o.continue_from);
+    const fs::path target = o.common.out / "packing.h5";
+    if (fs::exists(control.continue_from) && fs::exists(target) && fs::equivalent(control.continue_from, target))
+      throw std::runtime_error(fmt::format("--continue-from {} would be overwritten by the continued packing; "
+                                           "give another --out", control.continue_from.string()));
   }
   // A fresh pack would overwrite an earlier one's checkpoint, hours of work at paper size.
   if (!o.resume && fs::exists(control.checkpoint))
@@ -163,6 +173,12 @@ void add_push_commands(CLI::App& app, Action& action) {
                            "with --stop-after deposit), made with this config but for tamping, consolidation, "
                            "traffic and settling keys")
       ->excludes(resume_flag);
+  CLI::Option* deposit_option = pack_command->get_option("--deposit-from");
+  pack_command->add_option("--continue-from", pack_options->continue_from,
+                           "Start from this finished packing (packing.h5 or its directory), made with this config "
+                           "but for its traffic and settling keys, and add this config's traffic pulses and settling")
+      ->excludes(resume_flag)
+      ->excludes(deposit_option);
   pack_command->add_option("--stop-after", pack_options->stop_after,
                            "Stop after this stage (deposit, expand, tamp, consolidate, traffic: those the config runs), "
                            "its checkpoint written; go on later with --resume");
@@ -170,7 +186,8 @@ void add_push_commands(CLI::App& app, Action& action) {
   pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
                        "After every stage the bed is saved to OUT/checkpoint.h5 (removed once the packing is\n"
                        "written): a pack stopped by --stop-after or killed goes on with --resume; an\n"
-                       "unstable stage leaves the last good stage's bed there.\n"
+                       "unstable stage leaves the last good stage's bed there. A finished bed takes more\n"
+                       "traffic with --continue-from (studies/presets/README.md).\n"
                        "The procedure is described in studies/presets/README.md.");
   pack_command->callback([pack_options, &action] {
     action = [pack_options] {

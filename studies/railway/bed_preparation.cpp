@@ -154,6 +154,17 @@ void print_remaining(const std::vector<LaterStage>& stages, std::size_t next, co
              scene::format_duration(per_step * steps));
 }
 
+// Appends a stage's report; a continued packing repeats stages, whose reports are then named
+// NAME_2, NAME_3, ... (a packing file keeps each under its name).
+void add_report(PreparationReport& report, StageReport stage) {
+  const auto taken = [&](const std::string& name) {
+    return std::any_of(report.stages.begin(), report.stages.end(), [&](const StageReport& s) { return s.name == name; });
+  };
+  const std::string base = stage.name;
+  for (int k = 2; taken(stage.name); ++k) stage.name = fmt::format("{}_{}", base, k);
+  report.stages.push_back(std::move(stage));
+}
+
 }  // namespace
 
 std::vector<std::string> stopping_points(const PushStudyConfig& c) {
@@ -190,7 +201,21 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   };
   std::size_t next = 0;  // into `stages`
   const bool reuse = !control.deposit_from.empty();
-  if (control.resume || reuse) {
+  if (!control.continue_from.empty()) {
+    next = static_cast<std::size_t>(std::find(names.begin(), names.end(), "traffic") - names.begin());
+    if (next == names.size())
+      throw std::invalid_argument(fmt::format("--continue-from {}: this config runs no traffic (traffic_cycles = {}); "
+                                              "set [preparation] traffic_cycles to the pulses to add",
+                                              control.continue_from.string(), c.preparation.traffic_cycles));
+    if (!control.stop_after.empty() && stop_index <= next)
+      throw std::invalid_argument(fmt::format("--stop-after {}: done before the packing {} was finished",
+                                              control.stop_after, control.continue_from.string()));
+    bed = load_finished_bed(control.continue_from, c, report);
+    report.continued_from = control.continue_from.string();
+    if (!control.quiet)
+      fmt::print(stderr, "continuing {}: {} stones, {} more traffic pulses, then settling\n",
+                 control.continue_from.string(), bed.stones.size(), c.preparation.traffic_cycles);
+  } else if (control.resume || reuse) {
     const std::filesystem::path& from = reuse ? control.deposit_from : control.checkpoint;
     std::string name;
     bed = load_checkpoint(from, c, reuse ? CheckpointUse::kDeposit : CheckpointUse::kResume, report, name);
@@ -223,7 +248,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   settle.sleeper = sleeper;
   for (; next + 1 < stages.size(); ++next) {
     settle.sleeper->centre = bed.sleeper_centre;
-    report.stages.push_back(stages[next].run(c, settle, control, bed));
+    add_report(report, stages[next].run(c, settle, control, bed));
     if (!control.quiet) print_remaining(stages, next + 1, report, bed.stones.size(), bed.stones.size());
     if (done(names[next], names[next + 1])) return std::nullopt;
   }
@@ -233,7 +258,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   const Stage settling = run_stage(c, bed.domain, bed.stones, settle, {"settle", c.preparation.equilibrium_ratio,
                                    c.preparation.max_settling_time, bed.mean_size,
                                    RestCriterion::kForcesAndEnergy}, control.quiet, control.stage_directory);
-  report.stages.push_back(settling.report);
+  add_report(report, settling.report);
 
   Packing p;
   p.config = c;
@@ -247,6 +272,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   for (std::size_t k = first_stage; k < report.stages.size(); ++k) p.preparation_time += report.stages[k].simulated_time;
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   p.springs = settling.sim.contact_springs();
+  p.continued_from = report.continued_from;
   return p;
 }
 

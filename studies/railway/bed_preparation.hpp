@@ -76,6 +76,11 @@ struct PreparationControl {
   // this config but for the keys that act later), then trim and run this config's stages.
   std::filesystem::path deposit_from;
   std::string stop_after;   // a stage (stopping_points): stop once it and its checkpoint are done
+  // With it, start from this finished packing (made with this config but for the traffic and
+  // settling keys) and run this config's traffic and settling on it: more pulses on a bed
+  // already prepared. Its stages are reported after the packing's own, named traffic_2,
+  // settle_2, ... where the name was taken.
+  std::filesystem::path continue_from;
 };
 
 // The stages a preparation with this config can stop after: "deposit", then those of expand,
@@ -83,7 +88,8 @@ struct PreparationControl {
 std::vector<std::string> stopping_points(const PushStudyConfig& config);
 
 // The packing, or none when stopped by `control.stop_after`. Throws std::invalid_argument for
-// geometry that cannot be built (railway::validate) or a stop_after that is not a stage of it,
+// geometry that cannot be built (railway::validate), a stop_after that is not a stage of it or a
+// continue_from with a config that runs no traffic,
 // std::runtime_error for a checkpoint that cannot be resumed (named), and dem::StabilityError
 // when a stage becomes unstable. A resumed preparation is bitwise the uninterrupted one.
 std::optional<Packing> prepare_bed(const PushStudyConfig& config, const PreparationControl& control,

@@ -130,6 +130,7 @@ void save_packing(const std::filesystem::path& path, const Packing& p, const Sta
   write_vec3_attribute(g, "sleeper_centre", p.sleeper.centre);
   write_vec3_attribute(g, "sleeper_half_extent", p.sleeper.half_extent);
   write_attribute(g, "sleeper_mass", p.sleeper.mass);
+  if (!p.continued_from.empty()) write_attribute(g, "continued_from", p.continued_from);
   std::vector<dem::Index> ids, templates;
   std::vector<double> sizes;
   for (const auto& s : p.stones) {
@@ -252,6 +253,7 @@ Packing load_packing(const std::filesystem::path& path) {
     p.sleeper.centre = read_vec3_attribute(g, "sleeper_centre");
     p.sleeper.half_extent = read_vec3_attribute(g, "sleeper_half_extent");
     p.sleeper.mass = read_attribute(g, "sleeper_mass");
+    p.continued_from = dem::h5::read_text_attribute(g, "continued_from");
     p.sleeper.material = kSleeper;
     p.sleeper.driven = {true, true, false};
     const auto ids = dem::h5::read_ints(g, "stone_id");

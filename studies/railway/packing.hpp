@@ -7,7 +7,8 @@
 //                           made from), config_source, preparation_time (s),
 //                           unbalanced_force_ratio (at the end), domain_min, domain_max,
 //                           periodic_y (1 or 0), sleeper_centre, sleeper_half_extent (m),
-//                           sleeper_mass (kg)
+//                           sleeper_mass (kg), continued_from (the packing whose bed got more
+//                           traffic, `mfdem pack --continue-from`; absent otherwise)
 //   /packing/stone_id       [bodies]  index of the stone's seeded draw (fidelity::StoneSampler)
 //   /packing/template       [bodies]  index of its template in the shape library
 //   /packing/size           [bodies]  sieve size d, m
@@ -55,6 +56,8 @@ struct Packing {
   double preparation_time = 0.0;        // s simulated
   double unbalanced_force_ratio = 0.0;  // at the end of preparation
   std::vector<dem::SpringState> springs;  // of its active contacts, element-indexed
+  // The packing this one was continued from (`mfdem pack --continue-from`), as given; "" if none.
+  std::string continued_from;
 
   std::int64_t element_count() const;
 };

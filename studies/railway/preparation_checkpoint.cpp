@@ -22,6 +22,10 @@ constexpr std::array<std::string_view, 13> kAfterDeposition = {
     "expansion_steps", "expansion_time", "traffic_cycles", "traffic_load", "traffic_period", "local_damping",
     "equilibrium_ratio", "max_settling_time"};
 
+// The [preparation] keys that act in the traffic and the settling after it.
+constexpr std::array<std::string_view, 6> kTrafficAndSettling = {
+    "traffic_cycles", "traffic_load", "traffic_period", "local_damping", "equilibrium_ratio", "max_settling_time"};
+
 // The first line where two config texts differ, for a message a person can act on.
 std::string first_different_line(const std::string& saved, const std::string& given) {
   std::istringstream a(saved), b(given);
@@ -45,48 +49,67 @@ std::string shown(const toml::node* n) {
 }
 
 // The first key (dotted) whose value differs between two tables, with both values; "" if none.
-std::string first_different_key(const toml::table& a, const toml::table& b, const std::string& prefix) {
+// `saved` names the file `a` was read from ("checkpoint", "packing").
+std::string first_different_key(const toml::table& a, const toml::table& b, const std::string& prefix,
+                                std::string_view saved = "checkpoint") {
   for (auto&& [k, v] : a) {
     const std::string key = prefix + std::string(k.str());
     const toml::node* w = b.get(k.str());
     if (w && v.is_table() && w->is_table()) {
-      const std::string inner = first_different_key(*v.as_table(), *w->as_table(), key + ".");
+      const std::string inner = first_different_key(*v.as_table(), *w->as_table(), key + ".", saved);
       if (!inner.empty()) return inner;
     } else if (!w || toml::node_view<const toml::node>(&v) != toml::node_view<const toml::node>(w)) {
-      return fmt::format("{} = {} in the checkpoint, {} now", key, shown(&v), shown(w));
+      return fmt::format("{} = {} in the {}, {} now", key, shown(&v), saved, shown(w));
     }
   }
   for (auto&& [k, v] : b)
-    if (!a.contains(k.str())) return fmt::format("{} = absent in the checkpoint, {} now", prefix + std::string(k.str()), shown(&v));
+    if (!a.contains(k.str()))
+      return fmt::format("{} = absent in the {}, {} now", prefix + std::string(k.str()), saved, shown(&v));
   return "";
 }
 
-// The config without what acts after the deposition.
-toml::table deposition_part(const std::string& text) {
+// The config without `later` of [preparation] (and name, seed, [push]): what made the bed before.
+template <std::size_t N>
+toml::table part_before(const std::string& text, const std::array<std::string_view, N>& later) {
   toml::table t = toml::parse(text);
   for (const char* key : {"name", "seed", "push"}) t.erase(key);
   if (toml::table* preparation = t["preparation"].as_table())
-    for (const auto key : kAfterDeposition) preparation->erase(key);
+    for (const auto key : later) preparation->erase(key);
   return t;
 }
 
-void check_made_for(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config,
-                    CheckpointUse use) {
+// The same stones: the seed draws them, the library shapes them.
+void check_same_stones(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config) {
   if (saved.seed != config.seed)
     throw std::runtime_error(fmt::format("{}: made with seed {}, this run has seed {}; use --seed {}", path.string(),
                                          saved.seed, config.seed, saved.seed));
   if (saved.stones.library != config.stones.library)
     throw std::runtime_error(fmt::format("{}: made with the shape library {}, this config's is {}", path.string(),
                                          saved.stones.library.string(), config.stones.library.string()));
+}
+
+void check_made_for(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config,
+                    CheckpointUse use) {
+  check_same_stones(path, saved, config);
   if (use == CheckpointUse::kResume && saved.text != config.text)
     throw std::runtime_error(fmt::format("{}: made from another config ({}); resume with the config it was made "
                                          "from", path.string(), first_different_line(saved.text, config.text)));
   if (use == CheckpointUse::kDeposit) {
-    const std::string difference = first_different_key(deposition_part(saved.text), deposition_part(config.text), "");
+    const std::string difference =
+        first_different_key(part_before(saved.text, kAfterDeposition), part_before(config.text, kAfterDeposition), "");
     if (!difference.empty())
       throw std::runtime_error(fmt::format("{}: deposited with another config ({}); only what acts after the "
                                            "deposition may differ", path.string(), difference));
   }
+}
+
+void check_continued_with(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config) {
+  check_same_stones(path, saved, config);
+  const std::string difference = first_different_key(part_before(saved.text, kTrafficAndSettling),
+                                                     part_before(config.text, kTrafficAndSettling), "", "packing");
+  if (!difference.empty())
+    throw std::runtime_error(fmt::format("{}: prepared with another config ({}); only the traffic and settling "
+                                         "keys may differ", path.string(), difference));
 }
 
 }  // namespace
@@ -157,6 +180,30 @@ BedBetweenStages load_checkpoint(const fs::path& path, const PushStudyConfig& co
   bed.records = p.stones;
   bed.sleeper_centre = p.sleeper.centre;
   bed.domain = p.domain;
+  return bed;
+}
+
+BedBetweenStages load_finished_bed(const fs::path& path, const PushStudyConfig& config, PreparationReport& report) {
+  const Packing p = load_packing(path);  // names the file when it is missing or not a packing
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t g = H5Gopen2(file, "packing", H5P_DEFAULT);
+  const bool checkpoint = !dem::h5::read_text_attribute(g, "next_stage").empty();
+  H5Gclose(g);
+  report.time_step = dem::h5::read_attribute(file, "time_step");
+  H5Fclose(file);
+  if (checkpoint)
+    throw std::runtime_error(fmt::format("{}: a checkpoint, not a finished packing (go on with it by --resume)",
+                                         path.string()));
+  check_continued_with(path, p.config, config);
+  for (auto& s : read_stage_reports(path)) report.stages.push_back(std::move(s));
+  report.stones_generated = static_cast<std::int64_t>(p.stones.size());
+  BedBetweenStages bed;
+  bed.stones = p.bodies;
+  bed.records = p.stones;
+  bed.sleeper_centre = p.sleeper.centre;
+  bed.domain = p.domain;
+  bed.trimmed = true;
+  for (const auto& s : p.stones) bed.mean_size += s.size / static_cast<double>(p.stones.size());
   return bed;
 }
 

@@ -29,6 +29,7 @@ struct PreparationReport {
   std::int64_t stones_removed = 0;
   double time_step = 0.0;          // s
   std::vector<StageReport> stages;
+  std::string continued_from;      // the finished packing its first stages come from, if any
 };
 
 struct BedBetweenStages {
@@ -51,6 +52,16 @@ void save_checkpoint(const std::filesystem::path& path, const PushStudyConfig& c
 //   act after the deposition: name, [push], and in [preparation] those of tamping,
 //   consolidation, expansion steps and time, and settling).
 enum class CheckpointUse { kResume, kDeposit };
+
+// A finished packing as the bed before this config's traffic (`mfdem pack --continue-from`): the
+// packing must be made with this config but for the keys that act in the traffic and settling
+// (name, [push], and in [preparation] traffic_*, local_damping, equilibrium_ratio and
+// max_settling_time), with the same seed (std::runtime_error naming the file and the first
+// difference otherwise). Appends its stage reports to `report`; the stages' energy scale
+// (mean_size) is the mean sieve size of the stones kept, which a finished packing holds, not of
+// every stone drawn.
+BedBetweenStages load_finished_bed(const std::filesystem::path& path, const PushStudyConfig& config,
+                                   PreparationReport& report);
 
 // Reads a checkpoint for `config` (std::runtime_error naming the file and the first difference
 // when it was made for another); appends its stage reports to `report` and returns the bed,

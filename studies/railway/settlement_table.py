@@ -29,9 +29,13 @@ def load(out: Path) -> dict:
         sys.exit(f"settlement_table.py: no packing.h5 or checkpoint.h5 in {out} (expected a pack's --out)")
     with h5py.File(path, "r") as f:
         stages = f.get("packing/stages")
-        if stages is None or "traffic" not in stages:
+        # A packing continued with more traffic (`mfdem pack --continue-from`) has traffic_2, ...:
+        # the config's traffic keys describe the last one, which is the one shown.
+        runs = [s for name, s in (stages or {}).items()
+                if name == "traffic" or (name.startswith("traffic_") and name[8:].isdigit())]
+        if not runs:
             sys.exit(f"settlement_table.py: {path} has no traffic stage (set traffic_cycles > 0)")
-        traffic = stages["traffic"]
+        traffic = max(runs, key=lambda s: s.attrs["order"])
         if "sleeper_base" not in traffic:
             sys.exit(f"settlement_table.py: {path}: the traffic stage has no sleeper_base series "
                      "(packed before it was recorded)")

@@ -210,3 +210,92 @@ TEST_CASE("traffic presses the sleeper into the bed while its rails hold it acro
   CAPTURE(before, loaded, unloaded);
   CHECK(loaded < unloaded);
 }
+
+TEST_CASE("a finished packing continued with more traffic keeps its stones and sinks under the pulses",
+          "[railway][traffic][continue]") {
+  // `mfdem pack --continue-from`: the tamped, consolidated and settled tiny bed (no traffic)
+  // gets three pulses of 10x the sleeper's weight, then settles again. References: the
+  // continuation starts from the packing's sleeper to the bit; against the same continuation
+  // under pulses of 1e-6 N (its weight alone) the sleeper ends lower; the stones are the
+  // packing's, in its order; the repeated stages are reported after the packing's own, renamed.
+  const test::TempDir dir;
+  const auto deposited = dir.path() / "deposited.h5";
+  railway::PreparationReport first, settled_report;
+  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
+  const auto settled = run(staged_config(), {}, false, "", settled_report, deposited);
+  REQUIRE(settled);
+  const auto finished = dir.path() / "settled.h5";
+  railway::save_finished_packing(finished, *settled, settled_report.stages);
+
+  const std::string traffic = "traffic_cycles = 3\ntraffic_period = 0.01\ntraffic_load = ";
+  const auto continued = [&](const railway::PushStudyConfig& c, const std::filesystem::path& from,
+                             railway::PreparationReport& report) {
+    railway::PreparationControl control;
+    control.quiet = true;
+    control.continue_from = from;
+    return railway::prepare_bed(c, control, report);
+  };
+  railway::PreparationReport heavy_report, light_report;
+  const auto heavy = continued(staged_config(7, 0.02, traffic + "250.0\n"), finished, heavy_report);
+  const auto light = continued(staged_config(7, 0.02, traffic + "1e-6\n"), finished, light_report);
+  REQUIRE(heavy);
+  REQUIRE(light);
+
+  std::vector<std::string> names;
+  for (const auto& s : heavy_report.stages) names.push_back(s.name);
+  CHECK(names == std::vector<std::string>{"deposit", "tamp", "consolidate", "settle", "traffic", "settle_2"});
+  CHECK(heavy->continued_from == finished.string());
+  REQUIRE(heavy->stones.size() == settled->stones.size());
+  for (std::size_t k = 0; k < heavy->stones.size(); ++k) CHECK(heavy->stones[k].id == settled->stones[k].id);
+  CHECK(*heavy_report.stages[4].sleeper_base_start == dem::box_bottom(settled->sleeper));
+  const double loaded = *heavy_report.stages[4].sleeper_base;
+  const double unloaded = *light_report.stages[4].sleeper_base;
+  CAPTURE(loaded, unloaded);
+  CHECK(loaded < unloaded);
+
+  // Continued again, the repeated names count on, and the file keeps every stage in order.
+  const auto twice_file = dir.path() / "continued.h5";
+  railway::save_finished_packing(twice_file, *heavy, heavy_report.stages);
+  CHECK(railway::load_packing(twice_file).continued_from == finished.string());
+  railway::PreparationReport again_report;
+  const auto again = continued(staged_config(7, 0.02, "traffic_cycles = 1\ntraffic_period = 0.01\n"), twice_file,
+                               again_report);
+  REQUIRE(again);
+  const auto again_file = dir.path() / "again.h5";
+  railway::save_finished_packing(again_file, *again, again_report.stages);
+  names.clear();
+  for (const auto& s : railway::read_stage_reports(again_file)) names.push_back(s.name);
+  CHECK(names == std::vector<std::string>{"deposit", "tamp", "consolidate", "settle", "traffic", "settle_2",
+                                          "traffic_2", "settle_3"});
+}
+
+TEST_CASE("a packing is continued only with its own config's bed and with traffic to add",
+          "[railway][continue]") {
+  const test::TempDir dir;
+  const auto deposited = dir.path() / "deposited.h5";
+  railway::PreparationReport first, settled_report;
+  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
+  const auto settled = run(staged_config(), {}, false, "", settled_report, deposited);
+  REQUIRE(settled);
+  const auto finished = dir.path() / "settled.h5";
+  railway::save_finished_packing(finished, *settled, settled_report.stages);
+  const std::string traffic = "traffic_cycles = 2\ntraffic_period = 0.01\n";
+  const auto attempt = [&](const railway::PushStudyConfig& c, const std::filesystem::path& from) {
+    railway::PreparationControl control;
+    control.quiet = true;
+    control.continue_from = from;
+    railway::PreparationReport report;
+    return railway::prepare_bed(c, control, report);
+  };
+  CHECK_THROWS_WITH(attempt(staged_config(8, 0.02, traffic), finished),
+                    Catch::Contains("settled.h5") && Catch::Contains("seed 7") && Catch::Contains("--seed 7"));
+  CHECK_THROWS_WITH(attempt(staged_config(7, 0.03, traffic), finished),
+                    Catch::Contains("settled.h5") && Catch::Contains("preparation.tamping_time = 0.02 in the packing") &&
+                        Catch::Contains("only the traffic and settling keys may differ"));
+  CHECK_THROWS_WITH(attempt(staged_config(), finished),
+                    Catch::Contains("runs no traffic") && Catch::Contains("traffic_cycles"));
+  CHECK_THROWS_WITH(attempt(staged_config(7, 0.02, traffic), deposited),
+                    Catch::Contains("deposited.h5") && Catch::Contains("a checkpoint, not a finished packing"));
+  CHECK_THROWS_WITH(attempt(staged_config(7, 0.02, traffic), dir.path() / "nowhere.h5"),
+                    Catch::Contains("nowhere.h5") && Catch::Contains("no such file"));
+}
