@@ -71,9 +71,10 @@ def table(rows: list[dict], elements: int, steps: int) -> list[str]:
             x["code"] == r["code"] and x["procs"] == 1 for x in rows) else None
         ratio = f"{r['wall'] / mfdem_wall[r['procs']]:.2f}" if r["code"] != "mfdem" and r["procs"] in mfdem_wall else "-"
         speedup = f"{one['wall'] / r['wall']:.2f}" if one is not None and r["procs"] > 1 else "-"
+        load = f"{r['load']:.2f}" if r["load"] == r["load"] else "not measured"  # nan: --wait-idle 0
         lines.append(f"| {r['code']} | {r['procs']} | {r['wall']:.2f} | {r['min']:.2f} - {r['max']:.2f} | "
                      f"{r['loop']:.2f} | {elements * steps / r['loop'] / 1e6:.2f} | {ratio} | {speedup} | "
-                     (f"{r['load']:.2f}" if r["load"] == r["load"] else "not measured") + " |")
+                     f"{load} |")
     return lines
 
 
