@@ -126,6 +126,7 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   p.domain = bed.domain;
   for (const auto& s : report.stages) p.preparation_time += s.simulated_time;
   p.unbalanced_force_ratio = report.stages.empty() ? 0.0 : report.stages.back().unbalanced_force_ratio;
+  p.continued_from = report.continued_from;  // a continued pack resumed keeps where it came from
   // Written beside and renamed over the last one: a run stopped mid-write keeps a whole file.
   const fs::path partial = partial_path(path);
   save_packing(partial, p, setup, "preparation checkpoint before stage " + next_stage);
@@ -176,6 +177,7 @@ BedBetweenStages load_checkpoint(const fs::path& path, const PushStudyConfig& co
   H5Gclose(g);
   H5Fclose(file);
   for (auto& s : read_stage_reports(path)) report.stages.push_back(std::move(s));
+  report.continued_from = p.continued_from;
   bed.stones = p.bodies;
   bed.records = p.stones;
   bed.sleeper_centre = p.sleeper.centre;

@@ -236,7 +236,8 @@ TEST_CASE("a finished packing continued with more traffic keeps its stones and s
     return railway::prepare_bed(c, control, report);
   };
   railway::PreparationReport heavy_report, light_report;
-  const auto heavy = continued(staged_config(7, 0.02, traffic + "250.0\n"), finished, heavy_report);
+  const railway::PushStudyConfig heavy_config = staged_config(7, 0.02, traffic + "250.0\n");
+  const auto heavy = continued(heavy_config, finished, heavy_report);
   const auto light = continued(staged_config(7, 0.02, traffic + "1e-6\n"), finished, light_report);
   REQUIRE(heavy);
   REQUIRE(light);
@@ -252,6 +253,26 @@ TEST_CASE("a finished packing continued with more traffic keeps its stones and s
   const double unloaded = *light_report.stages[4].sleeper_base;
   CAPTURE(loaded, unloaded);
   CHECK(loaded < unloaded);
+
+  // Stopped after its traffic and resumed, the continuation is bitwise the uninterrupted one
+  // (memcmp) and still knows where it came from.
+  const auto checkpoint = dir.path() / "checkpoint.h5";
+  railway::PreparationControl stop;
+  stop.quiet = true;
+  stop.continue_from = finished;
+  stop.checkpoint = checkpoint;
+  stop.stop_after = "traffic";
+  railway::PreparationReport stopped_report, resumed_report;
+  REQUIRE_FALSE(railway::prepare_bed(heavy_config, stop, stopped_report));
+  railway::PreparationControl resume;
+  resume.quiet = true;
+  resume.checkpoint = checkpoint;
+  resume.resume = true;
+  const auto resumed = railway::prepare_bed(heavy_config, resume, resumed_report);
+  REQUIRE(resumed);
+  CHECK(same_states(*heavy, *resumed));
+  CHECK(resumed->continued_from == finished.string());
+  CHECK(resumed_report.stages.back().name == "settle_2");
 
   // Continued again, the repeated names count on, and the file keeps every stage in order.
   const auto twice_file = dir.path() / "continued.h5";

@@ -165,8 +165,14 @@ def main() -> int:
     lines += ["", "| code | threads/ranks | peak lateral force (kN) | F(u) bitwise the same on every repeat |",
               "|---|---:|---:|---|"]
     for r in rows:
-        same = ("yes, and on every thread count" if mfdem_same else "NO") if r["code"] == "mfdem" else (
-            "yes" if lammps_same[r["procs"]] else "no")
+        runs = len(samples[(r["code"], r["procs"])])
+        if r["code"] == "mfdem":
+            counts = len(args.threads)
+            same = ("NO" if not mfdem_same else
+                    f"yes ({runs} runs; the same curve on all {counts} thread counts)" if counts > 1 else
+                    f"yes ({runs} runs)" if runs > 1 else "one run: nothing to compare")
+        else:
+            same = ("yes" if lammps_same[r["procs"]] else "no") if runs > 1 else "one run: nothing to compare"
         lines.append(f"| {r['code']} | {r['procs']} | {r['peak'] * 1e-3:.4f} | {same} |")
     lines.append("")
     notes = parallel_notes(args.threads)
