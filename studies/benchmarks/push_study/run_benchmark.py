@@ -169,7 +169,7 @@ def main() -> int:
         if r["code"] == "mfdem":
             counts = len(args.threads)
             same = ("NO" if not mfdem_same else
-                    f"yes ({runs} runs; the same curve on all {counts} thread counts)" if counts > 1 else
+                    f"yes ({runs} run(s) each; the same curve on all {counts} thread counts)" if counts > 1 else
                     f"yes ({runs} runs)" if runs > 1 else "one run: nothing to compare")
         else:
             same = ("yes" if lammps_same[r["procs"]] else "no") if runs > 1 else "one run: nothing to compare"
