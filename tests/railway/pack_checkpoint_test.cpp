@@ -63,6 +63,17 @@ bool same_states(const railway::Packing& a, const railway::Packing& b) {
   return a.sleeper.centre == b.sleeper.centre && a.springs.size() == b.springs.size();
 }
 
+// The staged tiny bed (no traffic): deposited into `deposited` (its checkpoint), then finished
+// and saved as `finished`, as `mfdem pack` writes it.
+railway::Packing finished_bed(const std::filesystem::path& deposited, const std::filesystem::path& finished) {
+  railway::PreparationReport first, report;
+  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
+  const auto settled = run(staged_config(), {}, false, "", report, deposited);
+  REQUIRE(settled);
+  railway::save_finished_packing(finished, *settled, report.stages);
+  return *settled;
+}
+
 }  // namespace
 
 TEST_CASE("a preparation stopped after its stages and resumed is bitwise the uninterrupted one",
@@ -220,12 +231,8 @@ TEST_CASE("a finished packing continued with more traffic keeps its stones and s
   // packing's, in its order; the repeated stages are reported after the packing's own, renamed.
   const test::TempDir dir;
   const auto deposited = dir.path() / "deposited.h5";
-  railway::PreparationReport first, settled_report;
-  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
-  const auto settled = run(staged_config(), {}, false, "", settled_report, deposited);
-  REQUIRE(settled);
   const auto finished = dir.path() / "settled.h5";
-  railway::save_finished_packing(finished, *settled, settled_report.stages);
+  const railway::Packing settled = finished_bed(deposited, finished);
 
   const std::string traffic = "traffic_cycles = 3\ntraffic_period = 0.01\ntraffic_load = ";
   const auto continued = [&](const railway::PushStudyConfig& c, const std::filesystem::path& from,
@@ -246,9 +253,9 @@ TEST_CASE("a finished packing continued with more traffic keeps its stones and s
   for (const auto& s : heavy_report.stages) names.push_back(s.name);
   CHECK(names == std::vector<std::string>{"deposit", "tamp", "consolidate", "settle", "traffic", "settle_2"});
   CHECK(heavy->continued_from == finished.string());
-  REQUIRE(heavy->stones.size() == settled->stones.size());
-  for (std::size_t k = 0; k < heavy->stones.size(); ++k) CHECK(heavy->stones[k].id == settled->stones[k].id);
-  CHECK(*heavy_report.stages[4].sleeper_base_start == dem::box_bottom(settled->sleeper));
+  REQUIRE(heavy->stones.size() == settled.stones.size());
+  for (std::size_t k = 0; k < heavy->stones.size(); ++k) CHECK(heavy->stones[k].id == settled.stones[k].id);
+  CHECK(*heavy_report.stages[4].sleeper_base_start == dem::box_bottom(settled.sleeper));
   const double loaded = *heavy_report.stages[4].sleeper_base;
   const double unloaded = *light_report.stages[4].sleeper_base;
   CAPTURE(loaded, unloaded);
@@ -293,13 +300,9 @@ TEST_CASE("a finished packing continued with more traffic keeps its stones and s
 TEST_CASE("a packing is continued only with its own config's bed and with traffic to add",
           "[railway][continue]") {
   const test::TempDir dir;
+  finished_bed(dir.path() / "deposited.h5", dir.path() / "settled.h5");
   const auto deposited = dir.path() / "deposited.h5";
-  railway::PreparationReport first, settled_report;
-  REQUIRE_FALSE(run(staged_config(), deposited, false, "deposit", first));
-  const auto settled = run(staged_config(), {}, false, "", settled_report, deposited);
-  REQUIRE(settled);
   const auto finished = dir.path() / "settled.h5";
-  railway::save_finished_packing(finished, *settled, settled_report.stages);
   const std::string traffic = "traffic_cycles = 2\ntraffic_period = 0.01\n";
   const auto attempt = [&](const railway::PushStudyConfig& c, const std::filesystem::path& from) {
     railway::PreparationControl control;
