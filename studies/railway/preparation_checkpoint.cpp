@@ -88,28 +88,32 @@ void check_same_stones(const fs::path& path, const PushStudyConfig& saved, const
                                          saved.stones.library.string(), config.stones.library.string()));
 }
 
+// Refuses `config` when it differs from `saved` (read from `path`, a `kind` file) in a key other
+// than name, seed, [push] and `later` of [preparation]; `what` ({}: the first difference) says why.
+template <std::size_t N>
+void require_same_before(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config,
+                         const std::array<std::string_view, N>& later, std::string_view kind, std::string_view what) {
+  const std::string difference =
+      first_different_key(part_before(saved.text, later), part_before(config.text, later), "", kind);
+  if (!difference.empty())
+    throw std::runtime_error(path.string() + ": " + fmt::format(fmt::runtime(what), difference));
+}
+
 void check_made_for(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config,
                     CheckpointUse use) {
   check_same_stones(path, saved, config);
   if (use == CheckpointUse::kResume && saved.text != config.text)
     throw std::runtime_error(fmt::format("{}: made from another config ({}); resume with the config it was made "
                                          "from", path.string(), first_different_line(saved.text, config.text)));
-  if (use == CheckpointUse::kDeposit) {
-    const std::string difference =
-        first_different_key(part_before(saved.text, kAfterDeposition), part_before(config.text, kAfterDeposition), "");
-    if (!difference.empty())
-      throw std::runtime_error(fmt::format("{}: deposited with another config ({}); only what acts after the "
-                                           "deposition may differ", path.string(), difference));
-  }
+  if (use == CheckpointUse::kDeposit)
+    require_same_before(path, saved, config, kAfterDeposition, "checkpoint",
+                        "deposited with another config ({}); only what acts after the deposition may differ");
 }
 
 void check_continued_with(const fs::path& path, const PushStudyConfig& saved, const PushStudyConfig& config) {
   check_same_stones(path, saved, config);
-  const std::string difference = first_different_key(part_before(saved.text, kTrafficAndSettling),
-                                                     part_before(config.text, kTrafficAndSettling), "", "packing");
-  if (!difference.empty())
-    throw std::runtime_error(fmt::format("{}: prepared with another config ({}); only the traffic and settling "
-                                         "keys may differ", path.string(), difference));
+  require_same_before(path, saved, config, kTrafficAndSettling, "packing",
+                      "prepared with another config ({}); only the traffic and settling keys may differ");
 }
 
 }  // namespace

@@ -62,15 +62,14 @@ def same_curve(a: dict, b: dict) -> bool:
 
 def table(rows: list[dict], elements: int, steps: int) -> list[str]:
     """Median wall and loop times per code and thread/rank count, with the peer's ratio."""
-    mfdem_wall = {r["procs"]: r["wall"] for r in rows if r["code"] == "mfdem"}
+    wall = {(r["code"], r["procs"]): r["wall"] for r in rows}
     lines = ["| code | threads/ranks | run wall time (s), median | min - max | push loop (s), median "
              "| M element-steps/s (loop) | this / mfdem (wall) | speed-up vs 1 | machine load before (cores) |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        one = next(x for x in rows if x["code"] == r["code"] and x["procs"] == 1) if any(
-            x["code"] == r["code"] and x["procs"] == 1 for x in rows) else None
-        ratio = f"{r['wall'] / mfdem_wall[r['procs']]:.2f}" if r["code"] != "mfdem" and r["procs"] in mfdem_wall else "-"
-        speedup = f"{one['wall'] / r['wall']:.2f}" if one is not None and r["procs"] > 1 else "-"
+        mfdem, one = wall.get(("mfdem", r["procs"])), wall.get((r["code"], 1))
+        ratio = f"{r['wall'] / mfdem:.2f}" if r["code"] != "mfdem" and mfdem else "-"
+        speedup = f"{one / r['wall']:.2f}" if one and r["procs"] > 1 else "-"
         load = f"{r['load']:.2f}" if r["load"] == r["load"] else "not measured"  # nan: --wait-idle 0
         lines.append(f"| {r['code']} | {r['procs']} | {r['wall']:.2f} | {r['min']:.2f} - {r['max']:.2f} | "
                      f"{r['loop']:.2f} | {elements * steps / r['loop'] / 1e6:.2f} | {ratio} | {speedup} | "
