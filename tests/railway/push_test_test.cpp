@@ -424,6 +424,11 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
     CHECK(full.preparation.tamping_sleeper_held);
     CHECK(full.preparation.consolidation_gravity == 10.0);
   }
-  CHECK_FALSE(railway::load_push_config("paper").geometry.periodic_along_track);  // the paper's walls
+  // The paper's setting: walls along the track, a wall sleeper held in the push, a trafficked bed.
+  const auto paper = railway::load_push_config("paper");
+  CHECK_FALSE(paper.geometry.periodic_along_track);
+  CHECK(paper.push.sleeper_held_vertically);
+  CHECK(paper.preparation.traffic_cycles == 20);
+  CHECK(paper.preparation.traffic_load == 90e3);
   CHECK_THROWS_WITH(railway::load_push_config("maxi"), Catch::Contains("mini, standard and paper"));
 }
