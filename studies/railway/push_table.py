@@ -29,6 +29,7 @@ COLUMNS = [  # (header, key, scale, format)
     ("at u (mm)", "u_at_peak", 1e3, "{:.2f}"),
     ("smoothed peak (kN)", "smoothed_peak", 1e-3, "{:.3f}"),
     ("F(u_end) (kN)", "end_force", 1e-3, "{:.3f}"),
+    ("mean F, work/u_end (kN)", "mean_force", 1e-3, "{:.3f}"),
     ("base at peak (%)", "base_share", 100.0, "{:.0f}"),
     ("crib (%)", "crib_share", 100.0, "{:.0f}"),
     ("shoulder (%)", "shoulder_share", 100.0, "{:.0f}"),
@@ -53,6 +54,14 @@ def moving_mean_peak(u: np.ndarray, force: np.ndarray, window: float) -> float:
     if width >= len(force):
         return float(force.mean())
     return float(np.convolve(force, np.ones(width) / width, mode="valid").max())
+
+
+def work_per_displacement(u: np.ndarray, force: np.ndarray) -> float:
+    """Mean F over the push as mfdem defines it (push_test.hpp): sum F_k (u_k - u_k-1) / u_last,
+    from the curve so that runs written before the mean_force attribute have it too."""
+    if not len(u) or u[-1] <= 0:
+        return float("nan")
+    return float(np.sum(force * np.diff(u, prepend=0.0)) / u[-1])
 
 
 def load(out: Path, window: float) -> dict:
@@ -81,6 +90,7 @@ def load(out: Path, window: float) -> dict:
         row["crib_mobilised"] = float(f["curve/crib"][peak] / pressing) if has_pressing else float("nan")
     row["end_force"] = float(force[-1]) if len(force) else float("nan")
     row["smoothed_peak"] = moving_mean_peak(u, force, window)
+    row["mean_force"] = work_per_displacement(u, force)
     summary = out / "push_summary.toml"
     row["seed"] = "?"
     if summary.exists():

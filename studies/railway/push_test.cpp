@@ -45,6 +45,7 @@ ResistanceParts face_parts(const std::array<dem::Vec3, dem::kBoxFaces>& f, int a
 void summarise_curve(PushResult& r) {
   for (std::size_t k = 0; k < r.curve.size(); ++k)
     if (r.curve[k].force > r.peak_force) r.peak_force = r.curve[k].force, r.u_at_peak = r.curve[k].u, r.peak_sample = k;
+  r.mean_force = mean_over_displacement(r.curve);
   r.final_heave = r.curve.back().heave;
   for (const auto& s : r.network) r.max_inertial_number = std::max(r.max_inertial_number, s.inertial_number);
 }
@@ -188,6 +189,12 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   // After a guard tripped the state is not to be trusted: the curve up to then is the result.
   if (r.status == "finished") collect_end_state(sim, r);
   return r;
+}
+
+double mean_over_displacement(const std::vector<ForceSample>& curve) {
+  double work = 0.0, u_before = 0.0;
+  for (const auto& s : curve) work += s.force * (s.u - u_before), u_before = s.u;
+  return u_before > 0.0 ? work / u_before : 0.0;
 }
 
 }  // namespace mfdem::railway

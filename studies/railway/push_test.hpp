@@ -76,6 +76,9 @@ struct PushResult {
   std::vector<ForceSample> curve;
   std::vector<NetworkSample> network;
   double peak_force = 0.0, u_at_peak = 0.0;
+  // Mean F over the push: the work done on the bed / u_end. One slip event moves the peak of a
+  // still-rising curve by several per cent; the mean much less (results/push_test, stop 23).
+  double mean_force = 0.0;
   std::size_t peak_sample = 0;            // index of the peak in curve
   double max_contact_force = 0.0, contact_force_q999 = 0.0, mean_contact_force = 0.0;  // N
   double max_inertial_number = 0.0;
@@ -104,6 +107,10 @@ struct PushRun {
 // (the packing's own config, or another one for a variant). When a guard trips, the result
 // holds everything up to that point, status "unstable" and the guard's message.
 PushResult run_push(const Packing& packing, const PushStudyConfig& config, const PushRun& run);
+
+// Work per unit displacement: sum of F_k (u_k - u_(k-1)) / u_last, each F_k the mean over its
+// record interval (u before the first sample taken as 0). 0 for an empty curve or no displacement.
+double mean_over_displacement(const std::vector<ForceSample>& curve);
 
 // The x-z profile's area times the section length, minus the sleeper: V of the mean stress.
 double bed_volume(const SectionGeometry& g);

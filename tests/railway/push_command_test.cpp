@@ -52,7 +52,7 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
 TEST_CASE("pack then push --check-rate writes both pushes and reports the change", "[railway][cli]") {
   // End to end through the command line on the tiny bed: the half-velocity push is a second run
   // of the same packing at exactly half the velocity, and the reported change is
-  // (peak_half - peak) / peak of the two summaries (printed to 0.01 %).
+  // (peak_half - peak) / peak of the two summaries (printed to 0.01 %), likewise for the mean force.
   const mfdem::test::TempDir dir;
   const auto config = dir.path() / "tiny.toml";
   std::ofstream(config) << mfdem::test::kTinyBed;
@@ -105,6 +105,11 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
   const double peak = full["peak_force"].value_or(0.0), peak_half = half["peak_force"].value_or(0.0);
   REQUIRE(peak > 0.0);
   CHECK_THAT(push.out, Catch::Contains(fmt::format("{:+.2f} %", 100.0 * (peak_half - peak) / peak)));
+  // The mean force (work / u_end) moves less than the peak under a single slip.
+  const double mean = full["mean_force"].value_or(0.0), mean_half = half["mean_force"].value_or(0.0);
+  REQUIRE(mean > 0.0);
+  CHECK_THAT(push.out, Catch::Contains(fmt::format("change of the mean force (work / u_end): {:+.2f} %",
+                                                   100.0 * (mean_half - mean) / mean)));
   CHECK(std::filesystem::exists(push_dir + "/push.h5"));
   CHECK(std::filesystem::exists(push_dir + "/push_state.xdmf"));
 }

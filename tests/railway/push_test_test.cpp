@@ -209,6 +209,31 @@ TEST_CASE("on a tiny bed F(u) starts at zero and rises", "[railway][push]") {
   // The drive (a speed-up over 0.1 mm, then the set velocity) ends within one step's travel of
   // u_end, and the sleeper is where the drive put it.
   CHECK(std::abs(r.curve.back().u - r.distance) <= r.velocity * r.time_step);
+  // The mean force (work / u_end) lies between F(0) and the peak.
+  CHECK(r.mean_force > r.curve.front().force);
+  CHECK(r.mean_force < r.peak_force);
+}
+
+TEST_CASE("the mean force over a push is the work done per unit displacement", "[railway][push]") {
+  // Reference: W = integral of F du. Each sample is F's mean over the interval ending at its u,
+  // so sum F_k (u_k - u_(k-1)) is W exactly. F = k u sampled as interval means on uneven
+  // intervals (a speed-up, then even steps): W = k u_end^2 / 2, the mean k u_end / 2.
+  const double k = 2.0e6, u_end = 5e-3;
+  std::vector<railway::ForceSample> curve;
+  double u_before = 0.0;
+  for (double u : {1e-6, 4e-6, 1e-5, 3e-5}) {
+    curve.push_back({u, k * 0.5 * (u + u_before)}), u_before = u;
+  }
+  for (double u = 4e-5; u < u_end + 1e-12; u += 1e-5) curve.push_back({u, k * 0.5 * (u + u_before)}), u_before = u;
+  CHECK(railway::mean_over_displacement(curve) == Approx(k * curve.back().u / 2).epsilon(1e-12));
+  // A single slip at the end moves the peak of a rising curve by its depth and the mean by its
+  // share of the distance: a 10 % jump on the last 1 % of u moves the mean by about 0.2 %.
+  auto slipped = curve;
+  for (auto& s : slipped)
+    if (s.u > 0.99 * u_end) s.force *= 1.1;
+  const double moved = railway::mean_over_displacement(slipped) / railway::mean_over_displacement(curve) - 1.0;
+  CHECK(moved == Approx(0.002).margin(0.0005));
+  CHECK(railway::mean_over_displacement({}) == 0.0);
 }
 
 TEST_CASE("a sleeper held vertically keeps its height while the free one settles or rises", "[railway][push]") {
