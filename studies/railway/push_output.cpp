@@ -15,7 +15,8 @@ namespace mfdem::railway {
 const char* const kPushDefinitions =
     "F(u): minus the sum of the stones' contact forces on the sleeper along the push (+x), mean over each "
     "record interval, against the sleeper's lateral displacement u. Peak lateral force: max F(u) for u in "
-    "[0, u_end]. Mean F: the work done on the bed over the push / u_end. Maximum particle contact force: max |f| over stone-stone contacts at u_end; q99.9: its "
+    "[0, u_end]. Mean F: the work done on the bed over the push / u_end. Maximum particle contact force: "
+    "max |f| over stone-stone contacts at u_end; q99.9: its "
     "99.9 % nearest-rank quantile. Inertial number I = (v / sleeper height) d_mean / sqrt(p / rho), p the "
     "mean stress of the stone contacts over the bed. Base, crib, shoulder: the parts of F carried by the "
     "sleeper's bottom face, its two sides along the track and its two ends (each contact counted to the face "
