@@ -223,7 +223,13 @@ TEST_CASE("the mean force over a push is the work done per unit displacement", "
   for (int i = 4; i <= 500; ++i) interval_ends.push_back(i * 1e-5);
   std::vector<railway::ForceSample> curve;
   double u_before = 0.0;
-  for (double u : interval_ends) curve.push_back({u, k * 0.5 * (u + u_before)}), u_before = u;
+  for (double u : interval_ends) {
+    railway::ForceSample sample;
+    sample.u = u;
+    sample.force = k * 0.5 * (u + u_before);
+    curve.push_back(sample);
+    u_before = u;
+  }
   CHECK(railway::mean_over_displacement(curve) == Approx(k * curve.back().u / 2).epsilon(1e-12));
   // A single slip at the end moves the peak of a rising curve by its depth and the mean by its
   // share of the distance: a 10 % jump on the last 1 % of u moves the mean by about 0.2 %.
@@ -447,6 +453,8 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
     CHECK(full.preparation.tamping_depth == 0.020);
     CHECK(full.preparation.tamping_sleeper_held);
     CHECK(full.preparation.consolidation_gravity == 10.0);
+    // Long enough for the creeping crib: standard seed 1 meets 1e-3 at 0.72 s (stop 25).
+    CHECK(full.preparation.max_settling_time == 1.0);
   }
   // The paper's setting: walls along the track, a wall sleeper held in the push, a trafficked bed.
   const auto paper = railway::load_push_config("paper");
