@@ -456,7 +456,7 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
     // Long enough for the creeping crib: standard seed 1 meets 1e-3 at 0.72 s (stop 25).
     CHECK(full.preparation.max_settling_time == 1.0);
   }
-  // The velocity the rate check chose on standard seeds 1-2: halving it moves the peak < 2 %.
+  // The velocity the rate checks chose on standard seeds 1-3 (results/push_test, stop 25).
   CHECK(railway::load_push_config("standard").push.velocity == 0.025);
   // The paper's setting: walls along the track, a wall sleeper held in the push, a trafficked bed.
   const auto paper = railway::load_push_config("paper");
