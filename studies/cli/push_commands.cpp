@@ -132,7 +132,10 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   const railway::PushResult half = railway::run_push(packing, config, slow);
   railway::write_push_file(half_dir / "push.h5", half);
   railway::write_push_summary(half_dir / "push_summary.toml", half, packing);
-  railway::print_rate_check(std::cout, result, half);
+  const railway::RateCheck check = railway::compare_rates(result, half);
+  railway::print_rate_check(std::cout, result, half, check);
+  railway::write_rate_check(o.common.out / "rate_check.toml", check);
+  fmt::print("  written: {}\n", (o.common.out / "rate_check.toml").string());
   return half.status == "finished" ? 0 : kUnstable;
 }
 
@@ -153,7 +156,8 @@ void add_push_options(CLI::App& command, PushOptions& o) {
                                       "Push distance u_end in mm (default: the config's, 5 mm)")
       ->check(CLI::PositiveNumber);
   command.add_flag("--check-rate", o.check_rate,
-                   "Repeat the push at half the velocity and report the change of the peak force");
+                   "Repeat the push at half the velocity (OUT/half_velocity) and report the change of the peak "
+                   "force, the mean force and the mean F over each mm (OUT/rate_check.toml)");
 }
 
 }  // namespace

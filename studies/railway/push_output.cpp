@@ -4,6 +4,7 @@
 #include <fmt/ostream.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -169,19 +170,69 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   if (!r.message.empty()) fmt::print(out, "Stopped: {}\n", r.message);
 }
 
-void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half) {
-  const auto change = [](double at_full, double at_half) { return 100.0 * (at_half - at_full) / at_full; };
+RateCheck compare_rates(const PushResult& full, const PushResult& half) {
+  const auto change = [](double at_full, double at_half) { return at_full != 0.0 ? (at_half - at_full) / at_full : 0.0; };
+  RateCheck c;
+  c.velocity = full.velocity;
+  c.half_velocity = half.velocity;
+  c.peak_change = change(full.peak_force, half.peak_force);
+  c.mean_change = change(full.mean_force, half.mean_force);
+  c.window_full = window_mean_forces(full.curve, c.window);
+  c.window_half = window_mean_forces(half.curve, c.window);
+  const std::size_t n = std::min(c.window_full.size(), c.window_half.size());  // a push stopped early has fewer
+  c.window_full.resize(n), c.window_half.resize(n);
+  for (std::size_t w = 0; w < n; ++w) {
+    c.window_change.push_back(change(c.window_full[w], c.window_half[w]));
+    if (std::abs(c.window_change.back()) > std::abs(c.largest_window_change))
+      c.largest_window_change = c.window_change.back();
+  }
+  return c;
+}
+
+void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half, const RateCheck& c) {
   fmt::print(out, "\nRate check (quasi-static evidence): the push repeated at half the velocity\n");
   fmt::print(out, "  {:<18} {:>14} {:>14} {:>14} {:>16}\n", "velocity (mm/s)", "peak F (kN)", "mean F (kN)", "max I",
              "q99.9 f (kN)");
   for (const PushResult* r : {&full, &half})
     fmt::print(out, "  {:<18.4g} {:>14.3f} {:>14.3f} {:>14.2e} {:>16.3f}\n", r->velocity * 1e3, r->peak_force * 1e-3,
                r->mean_force * 1e-3, r->max_inertial_number, r->contact_force_q999 * 1e-3);
-  fmt::print(out, "  change of the peak force at half the velocity: {:+.2f} %\n",
-             change(full.peak_force, half.peak_force));
-  // A peak reached while F still rises can move by one slip event; the mean (work / u_end) shows
-  // whether the whole curve moved.
-  fmt::print(out, "  change of the mean force (work / u_end): {:+.2f} %\n", change(full.mean_force, half.mean_force));
+  fmt::print(out, "  mean F over each {:.3g} mm of u (kN):\n  {:<18}", c.window * 1e3, "u (mm)");
+  const double u_end = std::min(full.curve.empty() ? 0.0 : full.curve.back().u,
+                                half.curve.empty() ? 0.0 : half.curve.back().u);
+  for (std::size_t w = 0; w < c.window_change.size(); ++w)
+    fmt::print(out, " {:>9}", fmt::format("{:.3g}-{:.3g}", w * c.window * 1e3,
+                                          std::min((w + 1) * c.window, u_end) * 1e3));
+  const auto window_row = [&](const char* name, const std::vector<double>& values, double scale, const char* format) {
+    fmt::print(out, "\n  {:<18}", name);
+    for (double v : values) fmt::print(out, " {:>9}", fmt::format(fmt::runtime(format), v * scale));
+  };
+  window_row(fmt::format("{:.4g}", full.velocity * 1e3).c_str(), c.window_full, 1e-3, "{:.3f}");
+  window_row(fmt::format("{:.4g}", half.velocity * 1e3).c_str(), c.window_half, 1e-3, "{:.3f}");
+  window_row("change (%)", c.window_change, 100.0, "{:+.2f}");
+  fmt::print(out, "\n  change of the peak force at half the velocity: {:+.2f} % ({} the {:.0f} % criterion)\n",
+             100.0 * c.peak_change, std::abs(c.peak_change) < kRateCriterion ? "within" : "OUTSIDE",
+             100.0 * kRateCriterion);
+  fmt::print(out, "  change of the mean force (work / u_end): {:+.2f} %\n", 100.0 * c.mean_change);
+  fmt::print(out, "  largest change of a {:.3g} mm window mean: {:+.2f} %\n", c.window * 1e3,
+             100.0 * c.largest_window_change);
+}
+
+void write_rate_check(const std::filesystem::path& path, const RateCheck& c) {
+  std::ofstream out(path);
+  const auto list = [](const std::vector<double>& values) {
+    std::string text;
+    for (double v : values) text += (text.empty() ? "" : ", ") + fmt::format("{:.6g}", v);
+    return "[" + text + "]";
+  };
+  out << "# mfdem push --check-rate: the push repeated at half the velocity; forces in N, velocities in m/s,\n"
+      << "# changes as fractions, (half - full) / full; windows: mean F over consecutive windows of u\n"
+      << fmt::format("velocity = {:.6g}\nhalf_velocity = {:.6g}\npeak_change = {:.6g}\ncriterion = {:.6g}\n"
+                     "within_criterion = {}\nmean_change = {:.6g}\nwindow = {:.6g}\nlargest_window_change = {:.6g}\n",
+                     c.velocity, c.half_velocity, c.peak_change, kRateCriterion,
+                     std::abs(c.peak_change) < kRateCriterion, c.mean_change, c.window, c.largest_window_change)
+      << "window_mean_force = " << list(c.window_full) << "\n"
+      << "window_mean_force_half = " << list(c.window_half) << "\n"
+      << "window_change = " << list(c.window_change) << "\n";
 }
 
 }  // namespace mfdem::railway

@@ -12,8 +12,10 @@
 //                 /end_state/stone_id                          [stones] seeded draw index
 //   push_state.h5 (+ .xdmf): state frames at the start, every millimetre and the end
 //   push_summary.toml and the printed table: the headline numbers.
+//   rate_check.toml (--check-rate): the two pushes compared, half_velocity/ holding the second.
 #include <filesystem>
 #include <ostream>
+#include <vector>
 
 #include "studies/railway/push_test.hpp"
 
@@ -22,8 +24,21 @@ namespace mfdem::railway {
 void write_push_file(const std::filesystem::path& path, const PushResult& result);
 void write_push_summary(const std::filesystem::path& path, const PushResult& result, const Packing& packing);
 void print_push_summary(std::ostream& out, const PushResult& result, const Packing& packing);
-// The two pushes of --check-rate and the change of the peak force between them.
-void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half);
+// The two pushes of --check-rate compared: the change of the peak force at half the velocity (the
+// issue's quasi-static criterion: below kRateCriterion), of the mean force and of the mean F over
+// each millimetre of u (a peak reached while F still rises moves by one slip event; the window
+// means show whether the whole curve moved).
+struct RateCheck {
+  double velocity = 0.0, half_velocity = 0.0;       // m/s
+  double peak_change = 0.0, mean_change = 0.0;      // (half - full) / full
+  double window = 1e-3;                             // m
+  std::vector<double> window_full, window_half, window_change;
+  double largest_window_change = 0.0;               // signed, of largest magnitude
+};
+constexpr double kRateCriterion = 0.02;
+RateCheck compare_rates(const PushResult& full, const PushResult& half);
+void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half, const RateCheck& check);
+void write_rate_check(const std::filesystem::path& path, const RateCheck& check);
 
 // The definitions of the outputs, printed in every report.
 extern const char* const kPushDefinitions;

@@ -197,4 +197,27 @@ double mean_over_displacement(const std::vector<ForceSample>& curve) {
   return u_before > 0.0 ? work / u_before : 0.0;
 }
 
+std::vector<double> window_mean_forces(const std::vector<ForceSample>& curve, double width) {
+  if (curve.empty() || !(width > 0.0)) return {};
+  const double u_last = curve.back().u;
+  std::size_t windows = static_cast<std::size_t>(std::floor(u_last / width));
+  // A tail of at least 0.4 w counts: a push to u_end stops within a step short of it.
+  if (u_last - windows * width >= 0.4 * width) ++windows;
+  std::vector<double> work(windows, 0.0), covered(windows, 0.0);
+  double u_before = 0.0;
+  for (const auto& s : curve) {
+    // The interval (u_before, s.u] may straddle window edges: each window takes its overlap.
+    for (std::size_t w = static_cast<std::size_t>(u_before / width); w < windows; ++w) {
+      const double from = std::max(u_before, w * width), to = std::min(s.u, (w + 1) * width);
+      if (to <= from) break;
+      work[w] += s.force * (to - from);
+      covered[w] += to - from;
+    }
+    u_before = s.u;
+  }
+  std::vector<double> means(windows);
+  for (std::size_t w = 0; w < windows; ++w) means[w] = covered[w] > 0.0 ? work[w] / covered[w] : 0.0;
+  return means;
+}
+
 }  // namespace mfdem::railway

@@ -112,6 +112,12 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& config, const
 // record interval (u before the first sample taken as 0). 0 for an empty curve or no displacement.
 double mean_over_displacement(const std::vector<ForceSample>& curve);
 
+// Mean F over consecutive windows of u, [0, w), [w, 2w), ... up to the last sample (a last,
+// shorter window is kept when it spans at least 0.4 w): the work done in each window per unit
+// displacement, each sample's F spread evenly over its record interval. Less noisy than the peak,
+// and it shows where along the push two curves part (the rate check compares them per millimetre).
+std::vector<double> window_mean_forces(const std::vector<ForceSample>& curve, double width);
+
 // The x-z profile's area times the section length, minus the sleeper: V of the mean stress.
 double bed_volume(const SectionGeometry& g);
 

@@ -112,4 +112,19 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
                                                    100.0 * (mean_half - mean) / mean)));
   CHECK(std::filesystem::exists(push_dir + "/push.h5"));
   CHECK(std::filesystem::exists(push_dir + "/push_state.xdmf"));
+  // The comparison is kept in rate_check.toml with the same figures. The 0.5 mm push makes one
+  // window of the 1 mm windows (a tail of at least 0.4 of the width is kept), the whole push:
+  // its mean is the mean force, so its change is the mean force's.
+  const auto rate = toml::parse_file(push_dir + "/rate_check.toml");
+  CHECK(rate["velocity"].value_or(0.0) == v);
+  CHECK(rate["half_velocity"].value_or(0.0) == v_half);
+  CHECK(rate["peak_change"].value_or(1.0) == Approx((peak_half - peak) / peak).epsilon(1e-5));
+  CHECK(rate["mean_change"].value_or(1.0) == Approx((mean_half - mean) / mean).epsilon(1e-5));
+  CHECK(rate["within_criterion"].value_or(false) == (std::abs(peak_half - peak) / peak < 0.02));
+  const toml::array* windows = rate["window_change"].as_array();
+  REQUIRE(windows != nullptr);
+  REQUIRE(windows->size() == 1);
+  CHECK(windows->get(0)->value_or(1.0) == Approx((mean_half - mean) / mean).epsilon(1e-4));
+  CHECK(rate["largest_window_change"].value_or(1.0) == windows->get(0)->value_or(0.0));
+  CHECK_THAT(push.out, Catch::Contains("largest change of a 1 mm window mean"));
 }

@@ -241,6 +241,46 @@ TEST_CASE("the mean force over a push is the work done per unit displacement", "
   CHECK(railway::mean_over_displacement({}) == 0.0);
 }
 
+TEST_CASE("window means of F are the work done in each window of u per unit displacement", "[railway][push]") {
+  // Reference: F = k u sampled as interval means on intervals that do not straddle the windows
+  // gives each window's mean k times its middle, exactly.
+  const double k = 2.0e6, width = 1e-3;
+  const auto sampled = [k](const std::vector<double>& interval_ends) {
+    std::vector<railway::ForceSample> curve;
+    double u_before = 0.0;
+    for (double u : interval_ends) {
+      railway::ForceSample sample;
+      sample.u = u;
+      sample.force = k * 0.5 * (u + u_before);
+      curve.push_back(sample);
+      u_before = u;
+    }
+    return curve;
+  };
+  std::vector<double> even;
+  for (int i = 1; i <= 500; ++i) even.push_back(i * 1e-5);
+  const auto means = railway::window_mean_forces(sampled(even), width);
+  REQUIRE(means.size() == 5);
+  for (std::size_t w = 0; w < means.size(); ++w) CHECK(means[w] == Approx(k * (w + 0.5) * width).epsilon(1e-9));
+  // Intervals of 0.7 mm straddle the edges: each window takes its overlap of every interval, so
+  // the windows' work adds up to the whole push's (mean_over_displacement x u_end).
+  std::vector<double> uneven;
+  for (int i = 1; i <= 7; ++i) uneven.push_back(i * 0.7e-3);  // u_end 4.9 mm: 5 windows, the last 0.9 mm
+  const auto curve = sampled(uneven);
+  const auto straddled = railway::window_mean_forces(curve, width);
+  REQUIRE(straddled.size() == 5);
+  const double work = straddled[0] * 1e-3 + straddled[1] * 1e-3 + straddled[2] * 1e-3 + straddled[3] * 1e-3 +
+                      straddled[4] * 0.9e-3;
+  CHECK(work == Approx(railway::mean_over_displacement(curve) * 4.9e-3).epsilon(1e-12));
+  // The first window holds the first interval (0.35 mm x k) for 0.7 mm and the second (1.05 mm x k) for 0.3 mm.
+  CHECK(straddled[0] == Approx(k * (0.7 * 0.35e-3 + 0.3 * 1.05e-3)).epsilon(1e-12));
+  // A tail shorter than 0.4 of a window is left out; none for an empty curve or no width.
+  uneven.back() = 4.3e-3;
+  CHECK(railway::window_mean_forces(sampled(uneven), width).size() == 4);
+  CHECK(railway::window_mean_forces({}, width).empty());
+  CHECK(railway::window_mean_forces(curve, 0.0).empty());
+}
+
 TEST_CASE("a sleeper held vertically keeps its height while the free one settles or rises", "[railway][push]") {
   const railway::Packing& p = shared_packing();
   railway::PushStudyConfig held = p.config;
