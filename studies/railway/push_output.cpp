@@ -210,7 +210,7 @@ void print_rate_check(std::ostream& out, const PushResult& full, const PushResul
   window_row(fmt::format("{:.4g}", half.velocity * 1e3).c_str(), c.window_half, 1e-3, "{:.3f}");
   window_row("change (%)", c.window_change, 100.0, "{:+.2f}");
   fmt::print(out, "\n  change of the peak force at half the velocity: {:+.2f} % ({} the {:.0f} % criterion)\n",
-             100.0 * c.peak_change, std::abs(c.peak_change) < kRateCriterion ? "within" : "OUTSIDE",
+             100.0 * c.peak_change, c.within_criterion() ? "within" : "OUTSIDE",
              100.0 * kRateCriterion);
   fmt::print(out, "  change of the mean force (work / u_end): {:+.2f} %\n", 100.0 * c.mean_change);
   fmt::print(out, "  largest change of a {:.3g} mm window mean: {:+.2f} %\n", c.window * 1e3,
@@ -229,7 +229,7 @@ void write_rate_check(const std::filesystem::path& path, const RateCheck& c) {
       << fmt::format("velocity = {:.6g}\nhalf_velocity = {:.6g}\npeak_change = {:.6g}\ncriterion = {:.6g}\n"
                      "within_criterion = {}\nmean_change = {:.6g}\nwindow = {:.6g}\nlargest_window_change = {:.6g}\n",
                      c.velocity, c.half_velocity, c.peak_change, kRateCriterion,
-                     std::abs(c.peak_change) < kRateCriterion, c.mean_change, c.window, c.largest_window_change)
+                     c.within_criterion(), c.mean_change, c.window, c.largest_window_change)
       << "window_mean_force = " << list(c.window_full) << "\n"
       << "window_mean_force_half = " << list(c.window_half) << "\n"
       << "window_change = " << list(c.window_change) << "\n";

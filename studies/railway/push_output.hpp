@@ -28,14 +28,16 @@ void print_push_summary(std::ostream& out, const PushResult& result, const Packi
 // issue's quasi-static criterion: below kRateCriterion), of the mean force and of the mean F over
 // each millimetre of u (a peak reached while F still rises moves by one slip event; the window
 // means show whether the whole curve moved).
+constexpr double kRateCriterion = 0.02;
 struct RateCheck {
   double velocity = 0.0, half_velocity = 0.0;       // m/s
   double peak_change = 0.0, mean_change = 0.0;      // (half - full) / full
   double window = 1e-3;                             // m
   std::vector<double> window_full, window_half, window_change;
   double largest_window_change = 0.0;               // signed, of largest magnitude
+
+  bool within_criterion() const { return peak_change < kRateCriterion && peak_change > -kRateCriterion; }
 };
-constexpr double kRateCriterion = 0.02;
 RateCheck compare_rates(const PushResult& full, const PushResult& half);
 void print_rate_check(std::ostream& out, const PushResult& full, const PushResult& half, const RateCheck& check);
 void write_rate_check(const std::filesystem::path& path, const RateCheck& check);
