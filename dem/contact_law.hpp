@@ -16,6 +16,7 @@
 // The normal model supplies the Coulomb limits mu Fn and mu_r Rbar Fn to the others.
 // Conventions: n points from body a to body b; results are the force and moment acting on b;
 // a receives the opposite force and moment (plus its own lever-arm torque).
+#include <algorithm>
 #include <cmath>
 
 #include "dem/material.hpp"
@@ -139,6 +140,23 @@ struct ContactOutcome {
   }
   out.force = fn * n + history.shear_force;
   return out;
+}
+
+// Energy the tangential and rolling springs of a contact that has just opened give up to
+// friction, J. The springs are discarded with the contact: in continuous time the Coulomb caps
+// (mu Fn, mu_r Rbar Fn -> 0 with the overlap) slip them to zero just before it opens. Part of
+// their energy has already gone into the motion: this step's first half kick applied the last
+// spring force and moment over dt/2, at relative tangential velocity vt and rolling velocity
+// w_roll (b relative to a). Without this account a contact that opens with a loaded spring
+// (large mu or mu_r) loses energy that the balance never sees.
+inline double released_spring_energy(const PairParameters& p, const ContactHistory& h, double rbar,
+                                     const Vec3& vt, const Vec3& w_roll, double dt) {
+  double e = h.shear_force.squaredNorm() / (2.0 * p.shear_stiffness) -
+             0.5 * dt * h.shear_force.dot(vt);
+  if (p.rolling_friction > 0.0)
+    e += h.rolling_moment.squaredNorm() / (2.0 * p.shear_stiffness * rbar * rbar) -
+         0.5 * dt * h.rolling_moment.dot(w_roll);
+  return std::max(0.0, e);
 }
 
 }  // namespace mfdem::dem

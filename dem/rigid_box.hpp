@@ -80,6 +80,14 @@ inline std::optional<BoxContact> sphere_box_contact(const Vec3& x, double r, con
 // ends carry its lateral resistance in different ways): 2 x axis, + 1 on the positive side.
 enum BoxFace : int { kMinusX = 0, kPlusX, kMinusY, kPlusY, kMinusZ, kPlusZ, kBoxFaces };
 
+// A box's force split by face, all zero (Eigen vectors start uninitialised).
+using BoxFaceForces = std::array<Vec3, kBoxFaces>;
+inline BoxFaceForces zero_box_faces() {
+  BoxFaceForces f;
+  f.fill(Vec3::Zero());
+  return f;
+}
+
 // The face a contact leans on: the axis of the normal's largest component, on its side. An edge
 // or corner contact counts to one face only, so the faces' forces add up to the total.
 inline BoxFace box_face(const Vec3& normal) {

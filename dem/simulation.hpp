@@ -9,6 +9,11 @@
 //      gravity and local damping; second half kick.
 // Every floating-point sum has an order that does not depend on the thread count, so 1 and 2
 // threads give bitwise identical trajectories.
+//
+// The member functions are defined by stage: simulation.cpp (building and preparing the scene),
+// simulation_step.cpp (steps 1 and the order of 1-4, stability checks), simulation_neighbors.cpp
+// (step 2), simulation_pair_forces.cpp (step 3), simulation_gather.cpp (step 4) and
+// simulation_diagnostics.cpp (energy, contacts, unbalanced force).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -202,6 +207,7 @@ class Simulation {
   std::vector<std::uint8_t> point_body_;  // one element at the centre: rotation needs no frame
   std::vector<Index> clump_bodies_;       // the bodies that are not point bodies, in order
   static constexpr int kRotationBatch = 4;  // clumps rotated side by side (free_rotations)
+  static constexpr double kMaxSkinFactor = 5.0;  // the automatic skin's largest multiple of its base (adaptive_skin)
   std::vector<Vec3> wrap_total_;   // sum of periodic wrap shifts per body (for energy)
 
   PairList pairs_;
@@ -320,5 +326,19 @@ class Simulation {
   double energy_scale_ = 0.0;
   std::optional<Snapshot> last_good_;
 };
+
+// Half kick: v += h F/m; the angular momentum takes h T. A point body (sphere) has an isotropic
+// inertia, so w += h T/I directly; a clump goes through its body-frame angular momentum.
+inline void Simulation::kick(Index b, const Vec3& force, const Vec3& torque, double h) {
+  bodies_.velocity[b] += (h / bodies_.mass[b]) * force;
+  if (point_body_[b]) {
+    bodies_.angular_velocity[b] += h * torque.cwiseQuotient(bodies_.inertia[b]);
+    return;
+  }
+  // l_body += h R^T T, so w = R (l_body / I) gains R ((h R^T T) / I): no round trip of w
+  // through the body frame, and one rotation matrix instead of three quaternion rotations.
+  const Mat3 r = bodies_.orientation[b].toRotationMatrix();
+  bodies_.angular_velocity[b] += r * (h * (r.transpose() * torque)).cwiseQuotient(bodies_.inertia[b]);
+}
 
 }  // namespace mfdem::dem

@@ -1,7 +1,10 @@
 #pragma once
 // Stability guards and the error they raise.
+#include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "dem/types.hpp"
 
 namespace mfdem::dem {
 
@@ -21,5 +24,9 @@ class StabilityError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// A body's state is finite: one test of the sum, since a NaN or an infinity in any component
+// makes the sum non-finite (a finite state would need components near 1e308 to overflow it).
+inline bool finite_state(const Vec3& x, const Vec3& v, const Vec3& w) { return std::isfinite((x + v + w).sum()); }
 
 }  // namespace mfdem::dem

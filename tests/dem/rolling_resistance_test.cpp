@@ -1,6 +1,6 @@
 // Rolling resistance (elastic-plastic spring, Ai et al. 2011 type C): a sphere on a floor wall.
 //
-// Conventions of the solver (dem/contact_law.hpp, dem/simulation.cpp) used in the derivations:
+// Conventions of the solver (dem/contact_law.hpp, dem/simulation_gather.cpp) used in the derivations:
 // the floor is z = 0 with normal +z; the contact point is at -Rc e_z from the centre, with the
 // lever Rc = R - d/2 (d = overlap); a sphere moving along +x rolls without slip when its spin
 // about +y is w_y = v_x / R, since the contact point moves at v_x - Rc w_y. The shear force on
