@@ -2,10 +2,12 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "dem/stability.hpp"
 #include "studies/cli/common_options.hpp"
@@ -48,11 +50,14 @@ void print_preparation(std::ostream& out, const railway::Packing& p, const railw
                                  : "continued from " + r.continued_from;
   fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({}), time step {:.3g} s\n", p.config.name,
              p.config.seed, p.stones.size(), p.element_count(), origin, r.time_step);
-  fmt::print(out, "  {:<10} {:>12} {:>10} {:>16} {:>9} {:>10} {:>16}\n", "stage", "simulated s", "steps",
+  // The stage column as wide as its longest name ("consolidate"); wall times up to "59 min 59 s".
+  std::size_t name_width = std::string("stage").size();
+  for (const auto& s : r.stages) name_width = std::max(name_width, s.name.size());
+  fmt::print(out, "  {:<{}} {:>12} {:>10} {:>16} {:>9} {:>12} {:>16}\n", "stage", name_width, "simulated s", "steps",
              "unbalanced ratio", "settled", "wall", "sleeper base (m)");
   for (const auto& s : r.stages)
-    fmt::print(out, "  {:<10} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>10} {:>16}\n", s.name, s.simulated_time, s.steps,
-               s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds),
+    fmt::print(out, "  {:<{}} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>12} {:>16}\n", s.name, name_width, s.simulated_time,
+               s.steps, s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds),
                s.sleeper_base ? fmt::format("{:.5f}", *s.sleeper_base) : "-");
   fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n", dem::box_bottom(p.sleeper),
              p.config.geometry.sleeper_base());
