@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <string>
 
 #include "dem/hdf5_io.hpp"
 #include "studies/scene/progress.hpp"
+#include "studies/scene/text_wrap.hpp"
 
 namespace mfdem::railway {
 
@@ -26,6 +28,9 @@ const char* const kPushDefinitions =
     "sides summed, both ends summed); friction on the base and crib sides gives at most about mu x (pressing_base + pressing_crib) of F (edge contacts aside).";
 
 namespace {
+
+// Prose printed with a report or written as a comment is broken into lines of this width.
+constexpr std::size_t kTextWidth = 100;
 
 // The [push] sleeper_vertical value the push ran with, as the config spells it.
 const char* sleeper_vertical(const PushResult& r) { return r.sleeper_held_vertically ? "held" : "free"; }
@@ -101,7 +106,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
 void write_push_summary(const std::filesystem::path& path, const PushResult& r, const Packing& p) {
   std::ofstream out(path);
   out << "# mfdem push summary; forces in N, lengths in m, times in s\n"
-      << fmt::format("# {}\n", kPushDefinitions)
+      << scene::wrap_text(kPushDefinitions, kTextWidth, "# ") << "\n"
       << fmt::format("config = \"{}\"\nseed = {}\nstatus = \"{}\"\nsleeper_vertical = \"{}\"\n", p.config.name,
                      p.config.seed, r.status, sleeper_vertical(r));
   if (!r.message.empty()) out << fmt::format("message = \"\"\"{}\"\"\"\n", r.message);
@@ -166,7 +171,7 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("time step (s)", fmt::format("{:.3g}", r.time_step));
   row("steps", fmt::format("{}", r.steps));
   row("wall time", scene::format_duration(r.wall_seconds));
-  fmt::print(out, "Definitions: {}\n", kPushDefinitions);
+  fmt::print(out, "{}\n", scene::wrap_text(std::string("Definitions: ") + kPushDefinitions, kTextWidth));
   if (!r.message.empty()) fmt::print(out, "Stopped: {}\n", r.message);
 }
 
