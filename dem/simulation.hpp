@@ -11,7 +11,7 @@
 // threads give bitwise identical trajectories.
 //
 // The member functions are defined by stage: simulation.cpp (building and preparing the scene),
-// simulation_step.cpp (steps 1 and the order of 1-4, stability checks), simulation_neighbors.cpp
+// simulation_step.cpp (step 1, the order of steps 1-4, stability checks), simulation_neighbors.cpp
 // (step 2), simulation_pair_forces.cpp (step 3), simulation_gather.cpp (step 4) and
 // simulation_diagnostics.cpp (energy, contacts, unbalanced force).
 #include <array>
