@@ -46,12 +46,15 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
   double cell_target = std::max(2.0 * radius_sum / n + skin, 0.25 * cutoff);
   const Vec3 length = domain.length();
   for (int a = 0; a < 3; ++a) {
-    // Three largest reaches per periodic length: then at most one image of j is within reach.
-    if (domain.periodic[a] && length[a] < 3.0 * cutoff)
+    // Two largest reaches per periodic length: then at most one image of j is within reach of
+    // i (two images lie a length apart, both within reach only if it is below 2 x reach), so a
+    // scan that meets a cell twice through two images keeps at most one. A ball of equal volume
+    // is wider than any pebble of its clump: three reaches did not fit mini's 0.2 m section.
+    if (domain.periodic[a] && length[a] < kPeriodicReaches * cutoff)
       throw std::invalid_argument(
           "periodic box length along axis " + std::string(1, "xyz"[a]) + " (" +
-          std::to_string(length[a]) + " m) must be at least 3 x (largest diameter + skin) = " +
-          std::to_string(3.0 * cutoff) + " m");
+          std::to_string(length[a]) + " m) must be at least 2 x (largest diameter + skin) = " +
+          std::to_string(kPeriodicReaches * cutoff) + " m");
   }
   // A sparse scene in a large box (a few bodies in a tall domain) gets larger cells: at most
   // about eight cells per element, and never fewer than a million allowed.

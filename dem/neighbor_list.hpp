@@ -32,6 +32,10 @@ inline Vec3 image_shift(const Image& image, const Vec3& box_length) {
   return Vec3(image[0] * box_length[0], image[1] * box_length[1], image[2] * box_length[2]);
 }
 
+// A periodic length must hold this many largest contact reaches (2 x largest radius + skin): then
+// at most one image of an element is within reach of another.
+inline constexpr double kPeriodicReaches = 2.0;
+
 // Cell-list search; deterministic: the result does not depend on the number of threads.
 PairList build_pair_list(const Elements& elements, const Domain& domain, double skin);
 // O(N^2) reference search for tests; same pairs, in (i, j) order.

@@ -110,11 +110,15 @@ int Simulation::add_box(const RigidBox& box) {
   return static_cast<int>(boxes_.size()) - 1;
 }
 
-void Simulation::prepare() {
+TimeStepLimit Simulation::stability_limit() const {
   // A box meets the elements like a wall of its material (it is far heavier than a stone).
   std::vector<PlaneWall> boundaries = walls_;
   for (const auto& box : boxes_) boundaries.push_back(PlaneWall{box.name, box.centre, Vec3::UnitZ(), Vec3::Zero(), box.material});
-  limit_ = critical_time_step(bodies_, elements_, materials_, boundaries);
+  return critical_time_step(bodies_, elements_, materials_, boundaries);
+}
+
+void Simulation::prepare() {
+  limit_ = stability_limit();
   const double given = settings_.time_step;
   if (given > 0.0) {
     if (given > limit_.limit && !settings_.force_time_step)

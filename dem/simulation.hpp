@@ -124,6 +124,11 @@ class Simulation {
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
   // list and evaluates the first forces. Call after adding bodies and walls.
   void prepare();
+  // Changes the radius of element e between steps (after prepare()): a ball grown into place.
+  // Growth counts against the neighbour list's skin as movement does, so no contact is missed;
+  // the elastic energy it adds to the element's contacts counts as work put in (EnergyReport::
+  // work_by_walls); the time step is not re-derived (give the step of the largest radii).
+  void set_element_radius(Index e, double radius);
   // Advances one step; throws StabilityError when a guard trips (the last good state is kept,
   // see last_good_state()).
   void step();
@@ -132,6 +137,8 @@ class Simulation {
   std::int64_t step_count() const { return step_count_; }
   double time_step() const { return dt_; }
   const TimeStepLimit& time_step_limit() const { return limit_; }
+  // The limit of the bodies and elements as added, without preparing (prepare() fixes it).
+  TimeStepLimit stability_limit() const;
 
   const Bodies& bodies() const { return bodies_; }
   // For states (positions, velocities): masses are fixed after prepare() (each pair keeps its
@@ -195,6 +202,11 @@ class Simulation {
   Index add_body(const ClumpSpec& body);
   [[gnu::always_inline]] inline void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
+  // Elastic energy of one active contact (energy()), and of all contacts of element e.
+  double pair_elastic_energy(Index p) const;
+  double wall_elastic_energy(Index e, std::size_t w) const;
+  double box_elastic_energy(Index e, std::size_t k) const;
+  double element_elastic_energy(Index e) const;
   // Throws StabilityError naming the step being taken, or the one just completed.
   void fail(const std::string& what, Index body, bool step_completed = false) const;
 
@@ -311,6 +323,7 @@ class Simulation {
   };
   std::vector<ChunkEnergy> pair_chunk_energy_, body_chunk_energy_;
   double max_move2_ = 0.0;
+  double radius_growth_ = 0.0;  // largest growth of an element's radius since the last build, m
   bool gather_and_kick_ = true;  // false only for the first force evaluation
 
   double dt_ = 0.0;

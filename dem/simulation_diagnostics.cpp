@@ -6,6 +6,56 @@
 
 namespace mfdem::dem {
 
+double Simulation::pair_elastic_energy(Index p) const {
+  const Index i = pairs_.first[p], j = pairs_.second[p];
+  const Vec3 d = elements_.position[j] + image_shift(pairs_.image[p], domain_.length()) - elements_.position[i];
+  const double overlap = std::max(0.0, elements_.radius[i] + elements_.radius[j] - d.norm());
+  const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
+  const double rbar = elements_.radius[i] * elements_.radius[j] / (elements_.radius[i] + elements_.radius[j]);
+  double energy = 0.5 * pp.normal_stiffness * overlap * overlap;
+  energy += pair_spring_[p].shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+  if (pp.rolling_friction > 0.0) energy += pair_rolling_[p].squaredNorm() / (2.0 * pp.shear_stiffness * rbar * rbar);
+  return energy;
+}
+
+double Simulation::wall_elastic_energy(Index e, std::size_t w) const {
+  const PlaneWall& wall = walls_[w];
+  const double overlap = elements_.radius[e] - (elements_.position[e] - wall.point).dot(wall.normal);
+  if (overlap <= 0.0) return 0.0;
+  const PairParameters& pp = materials_.pair(wall.material, elements_.material[e]);
+  const ContactHistory& h = wall_history_[e * walls_.size() + w];
+  const double re = elements_.radius[e];
+  double energy = 0.5 * pp.normal_stiffness * overlap * overlap;
+  energy += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+  if (pp.rolling_friction > 0.0) energy += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
+  return energy;
+}
+
+double Simulation::box_elastic_energy(Index e, std::size_t k) const {
+  if (!box_active_[e * boxes_.size() + k]) return 0.0;
+  const RigidBox& box = boxes_[k];
+  const auto contact = sphere_box_contact(elements_.position[e], elements_.radius[e], box.centre, box.half_extent);
+  if (!contact) return 0.0;
+  const PairParameters& pp = materials_.pair(box.material, elements_.material[e]);
+  const ContactHistory& h = box_history_[e * boxes_.size() + k];
+  const double re = elements_.radius[e];
+  double energy = 0.5 * pp.normal_stiffness * contact->overlap * contact->overlap;
+  energy += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
+  if (pp.rolling_friction > 0.0) energy += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
+  return energy;
+}
+
+double Simulation::element_elastic_energy(Index e) const {
+  double energy = 0.0;
+  for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p)
+    if (pair_active_[p]) energy += pair_elastic_energy(p);
+  for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k)
+    if (pair_active_[pairs_.as_second_pair[k]]) energy += pair_elastic_energy(pairs_.as_second_pair[k]);
+  for (std::size_t w = 0; w < walls_.size(); ++w) energy += wall_elastic_energy(e, w);
+  for (std::size_t k = 0; k < boxes_.size(); ++k) energy += box_elastic_energy(e, k);
+  return energy;
+}
+
 EnergyReport Simulation::energy() const {
   EnergyReport r;
   const Index nb = bodies_.size();
@@ -16,36 +66,11 @@ EnergyReport Simulation::energy() const {
     r.kinetic_rotational += 0.5 * w_body.dot(bodies_.inertia[b].cwiseProduct(w_body));
     r.gravitational -= m * settings_.gravity.dot(bodies_.position[b] - wrap_total_[b]);
   }
-  const Vec3 length = domain_.length();
-  for (Index p = 0; p < pairs_.size(); ++p) {
-    if (!pair_active_[p]) continue;
-    const Index i = pairs_.first[p], j = pairs_.second[p];
-    const Vec3 d = elements_.position[j] + image_shift(pairs_.image[p], length) - elements_.position[i];
-    const double overlap = elements_.radius[i] + elements_.radius[j] - d.norm();
-    const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
-    const double rbar = elements_.radius[i] * elements_.radius[j] /
-                        (elements_.radius[i] + elements_.radius[j]);
-    r.elastic += 0.5 * pp.normal_stiffness * std::max(0.0, overlap) * std::max(0.0, overlap);
-    r.elastic += pair_spring_[p].shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
-    if (pp.rolling_friction > 0.0)
-      r.elastic += pair_rolling_[p].squaredNorm() /
-                   (2.0 * pp.shear_stiffness * rbar * rbar);
-  }
+  for (Index p = 0; p < pairs_.size(); ++p)
+    if (pair_active_[p]) r.elastic += pair_elastic_energy(p);
   const std::size_t nw = walls_.size();
-  for (Index e = 0; e < elements_.size(); ++e) {
-    for (std::size_t w = 0; w < nw; ++w) {
-      const PlaneWall& wall = walls_[w];
-      const double overlap = elements_.radius[e] - (elements_.position[e] - wall.point).dot(wall.normal);
-      if (overlap <= 0.0) continue;
-      const PairParameters& pp = materials_.pair(wall.material, elements_.material[e]);
-      const ContactHistory& h = wall_history_[e * nw + w];
-      const double re = elements_.radius[e];
-      r.elastic += 0.5 * pp.normal_stiffness * overlap * overlap;
-      r.elastic += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
-      if (pp.rolling_friction > 0.0)
-        r.elastic += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
-    }
-  }
+  for (Index e = 0; e < elements_.size(); ++e)
+    for (std::size_t w = 0; w < nw; ++w) r.elastic += wall_elastic_energy(e, w);
   for (std::size_t k = 0; k < boxes_.size(); ++k) {
     const RigidBox& box = boxes_[k];
     for (int a = 0; a < 3; ++a) {
@@ -53,18 +78,7 @@ EnergyReport Simulation::energy() const {
       r.kinetic_translational += 0.5 * box.mass * box.velocity[a] * box.velocity[a];
       r.gravitational -= box.mass * settings_.gravity[a] * box.centre[a];
     }
-    for (Index e = 0; e < elements_.size(); ++e) {
-      if (!box_active_[e * boxes_.size() + k]) continue;
-      const auto contact = sphere_box_contact(elements_.position[e], elements_.radius[e], box.centre, box.half_extent);
-      if (!contact) continue;
-      const PairParameters& pp = materials_.pair(box.material, elements_.material[e]);
-      const ContactHistory& h = box_history_[e * boxes_.size() + k];
-      const double re = elements_.radius[e];
-      r.elastic += 0.5 * pp.normal_stiffness * contact->overlap * contact->overlap;
-      r.elastic += h.shear_force.squaredNorm() / (2.0 * pp.shear_stiffness);
-      if (pp.rolling_friction > 0.0)
-        r.elastic += h.rolling_moment.squaredNorm() / (2.0 * pp.shear_stiffness * re * re);
-    }
+    for (Index e = 0; e < elements_.size(); ++e) r.elastic += box_elastic_energy(e, k);
   }
   r.dissipated_damping = dissipated_damping_;
   r.dissipated_friction = dissipated_friction_;

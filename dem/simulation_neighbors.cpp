@@ -1,15 +1,44 @@
 // Simulation: the Verlet neighbour list, its skin, the wall scan and the release of opened contacts.
 #include "dem/simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "dem/chunked.hpp"
 
 namespace mfdem::dem {
 
+// A pair left out of the list was at least r_i + r_j + skin apart at the build; it can touch
+// once moves and growth of both add up to the skin: rebuild when move + growth > skin / 2.
 void Simulation::maybe_rebuild() {
+  if (radius_growth_ > 0.0) {
+    const double budget = 0.5 * skin_ - radius_growth_;
+    if (budget <= 0.0 || max_move2_ > budget * budget) rebuild();
+    return;
+  }
   if (4.0 * max_move2_ > skin_ * skin_) rebuild();
+}
+
+void Simulation::set_element_radius(Index e, double radius) {
+  if (!prepared_) throw std::logic_error("set_element_radius: call prepare() first");
+  if (!(radius > 0.0) || !std::isfinite(radius))
+    throw std::invalid_argument(fmt::format("element {}: radius must be a positive finite number (got {})", e, radius));
+  const double growth = radius - elements_.radius[e];
+  if (growth == 0.0) return;
+  const double before = element_elastic_energy(e);
+  elements_.radius[e] = radius;
+  radius_growth_ = std::max(radius_growth_, growth);
+  largest_radius_ = std::max(largest_radius_, radius);
+  const auto reach2 = [&](Index p) {
+    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+    pair_reach2_[p] = reach * reach;
+  };
+  for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) reach2(p);
+  for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) reach2(pairs_.as_second_pair[k]);
+  work_by_walls_ += element_elastic_energy(e) - before;
 }
 
 void Simulation::rebuild() {
@@ -69,6 +98,7 @@ void Simulation::rebuild() {
     pair_dashpot_[p] = damping_coefficient(pp.damping_ratio, mi * mj / (mi + mj), pp.normal_stiffness);
   }
   build_position_ = elements_.position;
+  radius_growth_ = 0.0;
   ++rebuilds_;
   scan_walls_ = true;
 }
@@ -88,7 +118,7 @@ void Simulation::release_opened_contacts() {
 // packed bed; up to five times more while they fly (a deposition falling at metres per second
 // rebuilt every ~15 steps at the base skin, and the builds took over half the time), so that the
 // fastest element needs about kStepsPerBuild steps to cross half the skin. Kept below what a
-// periodic axis allows (three cells of largest diameter + skin). The skin only decides how often
+// periodic axis allows (kPeriodicReaches x (largest diameter + skin)). The skin only decides how often
 // the list is rebuilt, never which contacts act (tests/physics/contact_history_rebuild_test.cpp).
 double Simulation::adaptive_skin() const {
   constexpr double kStepsPerBuild = 40.0;
@@ -102,7 +132,7 @@ double Simulation::adaptive_skin() const {
   }
   double ceiling = kMaxSkinFactor * base_skin_;
   for (int a = 0; a < 3; ++a)
-    if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / 3.0 - 2.0 * largest_radius_);
+    if (domain_.periodic[a]) ceiling = std::min(ceiling, domain_.length()[a] / kPeriodicReaches - 2.0 * largest_radius_);
   const double wanted = 2.0 * fastest * dt_ * kStepsPerBuild;
   return std::max(base_skin_, std::min(wanted, ceiling));
 }

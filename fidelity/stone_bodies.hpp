@@ -5,10 +5,9 @@
 #include "dem/simulation.hpp"
 #include "fidelity/clump_template.hpp"
 #include "fidelity/grading.hpp"
+#include "fidelity/policy.hpp"
 
 namespace mfdem::fidelity {
-
-enum class Representation { clump, ball };
 
 dem::ClumpSpec stone_as_clump(const ClumpTemplate& shape, const StoneDraw& draw, double density,
                               int material, const dem::Vec3& centre);

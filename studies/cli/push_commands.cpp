@@ -10,7 +10,11 @@
 #include <string>
 
 #include "dem/stability.hpp"
+#include "fidelity/policy.hpp"
 #include "studies/cli/common_options.hpp"
+#include "studies/cli/version.hpp"
+#include "studies/config/config_error.hpp"
+#include "studies/railway/model_bed.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/railway/bed_preparation.hpp"
 #include "studies/railway/push_output.hpp"
@@ -38,6 +42,9 @@ struct PushOptions {
   std::optional<fs::path> config;
   std::optional<double> velocity_mm_s, distance_mm;
   bool check_rate = false;
+  // The model: replace the config's [fidelity] policy, rolling_friction, ball_friction.
+  std::optional<std::string> fidelity;
+  std::optional<double> rolling_friction, ball_friction;
 };
 
 fs::path packing_file(const fs::path& given) {
@@ -113,16 +120,61 @@ std::optional<fs::path> pack(const PackOptions& o) {
   return file;
 }
 
+// The config's [fidelity] with the command line's choices on top.
+void apply_model_options(const PushOptions& o, railway::PushStudyConfig& config) {
+  if (o.fidelity) config.fidelity.policy = *o.fidelity;
+  if (o.rolling_friction) config.fidelity.rolling_friction = *o.rolling_friction;
+  if (o.ball_friction) config.fidelity.ball_friction = *o.ball_friction;
+}
+
+// The policy checked against a bed whose sleeper base lies `scale` above the floor; a bad one is
+// a config error (exit 2) naming the option or the config key that gave it.
+fidelity::Policy checked_policy(const PushOptions& o, const railway::PushStudyConfig& config,
+                                const fidelity::BedScale& scale, const std::string& bed) {
+  try {
+    return fidelity::PolicyRegistry::builtin().make(config.fidelity.policy, scale);
+  } catch (const fidelity::PolicyError& e) {
+    const std::string given = o.fidelity ? fmt::format("--fidelity {}", *o.fidelity)
+                                         : fmt::format("{}: fidelity.policy = \"{}\"", config.source.string(),
+                                                       config.fidelity.policy);
+    throw config::ConfigError(fmt::format("{}: {} ({})", given, e.what(), bed));
+  }
+}
+
 int push(const PushOptions& o, const fs::path& packing_path) {
   const railway::Packing packing = railway::load_packing(packing_path);
   railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
+  apply_model_options(o, config);
+  const fidelity::Policy policy = checked_policy(
+      o, config, railway::bed_frame(packing).scale(),
+      fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor", packing_path.string(),
+                  railway::bed_frame(packing).scale().sleeper_base));
   railway::PushRun run;
   run.velocity = o.velocity_mm_s ? *o.velocity_mm_s * 1e-3 : config.push.velocity;
   run.distance = o.distance_mm ? *o.distance_mm * 1e-3 : config.push.distance;
   run.quiet = o.common.quiet;
   fs::create_directories(o.common.out);
+  railway::ModelControl model_control;
+  model_control.quiet = o.common.quiet;
+  model_control.stage_directory = o.common.out;
+  const railway::ModelBed model = [&] {
+    try {
+      return railway::model_bed(packing, config, policy, model_control);
+    } catch (const dem::StabilityError&) {
+      fmt::print(std::cerr, "mfdem: the converted bed ({}) and its last good state while re-settling are in {}\n",
+                 policy.describe(), (o.common.out / "resettle.h5").string());
+      throw;
+    }
+  }();
+  if (model.report.resettling) {
+    railway::Packing saved = model.packing;
+    saved.config = config;
+    railway::save_finished_packing(o.common.out / "model_packing.h5", saved, {*model.report.resettling});
+  }
   run.state_file = o.common.out / "push_state.h5";
-  const railway::PushResult result = railway::run_push(packing, config, run);
+  railway::PushResult result = railway::run_push(model.packing, config, run);
+  result.model = model.report;
+  result.revision = git_revision();
   railway::write_push_file(o.common.out / "push.h5", result);
   railway::write_push_summary(o.common.out / "push_summary.toml", result, packing);
   railway::print_push_summary(std::cout, result, packing);
@@ -134,7 +186,9 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   const fs::path half_dir = o.common.out / "half_velocity";
   fs::create_directories(half_dir);
   slow.state_file = half_dir / "push_state.h5";
-  const railway::PushResult half = railway::run_push(packing, config, slow);
+  railway::PushResult half = railway::run_push(model.packing, config, slow);
+  half.model = model.report;
+  half.revision = result.revision;
   railway::write_push_file(half_dir / "push.h5", half);
   railway::write_push_summary(half_dir / "push_summary.toml", half, packing);
   const railway::RateCheck check = railway::compare_rates(result, half);
@@ -160,6 +214,17 @@ void add_push_options(CLI::App& command, PushOptions& o) {
   command.add_option_function<double>("--distance", [&o](const double& d) { o.distance_mm = d; },
                                       "Push distance u_end in mm (default: the config's, 5 mm)")
       ->check(CLI::PositiveNumber);
+  command.add_option_function<std::string>("--fidelity", [&o](const std::string& p) { o.fidelity = p; },
+                                           "The model: a fidelity policy that converts the prepared bed's clumps to "
+                                           "balls before the push (re-settled first): all-clump, all-ball, "
+                                           "layer-by-height:h=M (or h_fraction=F), zone-by-distance:d=M "
+                                           "(default: the config's [fidelity] policy, all-clump)");
+  command.add_option_function<double>("--rolling-friction", [&o](const double& m) { o.rolling_friction = m; },
+                                      "Rolling friction mu_r of the balls (default: the config's [fidelity], 0.3)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option_function<double>("--ball-friction", [&o](const double& m) { o.ball_friction = m; },
+                                      "Friction mu of the balls (default: the ballast's)")
+      ->check(CLI::NonNegativeNumber);
   command.add_flag("--check-rate", o.check_rate,
                    "Repeat the push at half the velocity (OUT/half_velocity) and report the change of the peak "
                    "force, the mean force and the mean F over each mm (OUT/rate_check.toml)");
@@ -242,6 +307,11 @@ void add_push_commands(CLI::App& app, Action& action) {
         PackOptions p;
         p.common = one_shot->common;
         p.config = one_shot->packing;
+        // A bad model is refused before the packing, against the design depth to the sleeper.
+        railway::PushStudyConfig design = railway::load_push_config(p.config);
+        apply_model_options(*one_shot, design);
+        checked_policy(*one_shot, design, {design.geometry.sleeper_base()},
+                       fmt::format("the design sleeper base lies {:.4f} m above the floor", design.geometry.sleeper_base()));
         // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
         // pack` refuses to overwrite a checkpoint instead.
         fs::remove(p.common.out / "checkpoint.h5");

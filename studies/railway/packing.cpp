@@ -269,10 +269,10 @@ Packing load_packing(const std::filesystem::path& path) {
   H5Fclose(file);
   const int frames = dem::count_frames(path);
   const dem::StateFrame frame = dem::read_frame(path, frames - 1);
-  // The packing's materials are ballast, sleeper, floor in that order (section_simulation.hpp).
+  // The packing's materials are ballast, sleeper, floor (and ball) in that order (section_simulation.hpp).
   std::vector<int> material_of;
   for (const auto& name : frame.material_names)
-    material_of.push_back(name == "ballast" ? kBallast : name == "sleeper" ? kSleeper : kFloor);
+    material_of.push_back(name == "ballast" ? kBallast : name == "sleeper" ? kSleeper : name == "ball" ? kBall : kFloor);
   p.bodies = dem::bodies_of(frame, material_of);
   if (p.bodies.size() != p.stones.size())
     throw std::runtime_error(fmt::format("{}: {} bodies but {} stone records", path.string(),

@@ -39,7 +39,7 @@ void read_stones(const Section& s, const std::filesystem::path& source, StoneSet
     t.library = s.text("library");
     if (t.library.is_relative()) t.library = source.parent_path() / t.library;
   }
-  t.representation = s.choice("representation", {"clump", "ball"}, t.representation);
+  t.representation = fidelity::representation_named(s.choice("representation", {"clump", "ball"}, "clump"));
   t.solid_fraction = s.number_or("solid_fraction", t.solid_fraction, {.min = 0.2, .max = 0.8},
                                  "expected solid fraction of the settled bed");
   t.overfill = s.number_or("overfill", t.overfill, {.min = 1.0, .max = 2.0},
@@ -101,6 +101,25 @@ void read_push(const Section& s, PushSettings& p) {
   if (p.record_interval > p.distance) s.fail("record_interval", "at most the push distance");
 }
 
+void read_fidelity(const Section& s, const SectionGeometry& g, FidelitySettings& f) {
+  f.policy = s.text_or("policy", f.policy);
+  try {
+    // Checked against the design depth to the sleeper base; a push checks it again against the
+    // settled bed's.
+    fidelity::PolicyRegistry::builtin().make(f.policy, {g.sleeper_base()});
+  } catch (const fidelity::PolicyError& e) {
+    s.fail("policy", e.what());
+  }
+  f.rolling_friction = s.number_or("rolling_friction", f.rolling_friction, kNonNegative,
+                                   "rolling friction coefficient mu_r of the balls");
+  if (s.has("ball_friction"))
+    f.ball_friction = s.number("ball_friction", kNonNegative, "friction coefficient of the balls");
+  f.growth_time = s.number_or("growth_time", f.growth_time, kPositive,
+                              "simulated s over which the converted balls grow to size");
+  if (s.has("growth_friction"))
+    f.growth_friction = s.number("growth_friction", kNonNegative, "friction coefficient while the balls grow");
+}
+
 dem::Material table1_material(const std::string& name, double stiffness, double density) {
   dem::Material m;
   m.name = name;
@@ -125,6 +144,7 @@ PushStudyConfig read(const Section& root, const std::string& text, const std::fi
   if (auto s = root.optional_section("stones")) read_stones(*s, source, c.stones);
   if (auto s = root.optional_section("preparation")) read_preparation(*s, c.preparation);
   if (auto s = root.optional_section("push")) read_push(*s, c.push);
+  if (auto s = root.optional_section("fidelity")) read_fidelity(*s, c.geometry, c.fidelity);
   if (auto s = root.optional_section("guards")) scene::read_guards(*s, c.guards);
   // Table 1 of the paper unless the config says otherwise. The sleeper's density sets nothing
   // (its mass is sleeper_mass); the floor is as stiff as the sleeper.
@@ -142,7 +162,7 @@ PushStudyConfig read(const Section& root, const std::string& text, const std::fi
     }
   }
   for (const auto& s : root.sections("pair")) {
-    const dem::PairOverride o = scene::read_pair_override(s, {"ballast", "sleeper", "floor"});
+    const dem::PairOverride o = scene::read_pair_override(s, {"ballast", "sleeper", "floor", "ball"});
     // A material's pair with itself is the material's own value (and the deposition lowers the
     // ballast's friction, which an override would undo).
     if (o.material_a == o.material_b)

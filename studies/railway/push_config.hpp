@@ -5,18 +5,22 @@
 // studies/presets/README.md.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "dem/material.hpp"
 #include "dem/stability.hpp"
+#include "fidelity/policy.hpp"
 #include "studies/railway/section_geometry.hpp"
 
 namespace mfdem::railway {
 
 struct StoneSettings {
   std::filesystem::path library;       // clump templates; empty: the shipped 6-pebble library
-  std::string representation = "clump";  // "clump" (the reference model) or "ball" (all balls)
+  // How the stones are drawn and prepared: clumps (the reference model) or all balls. A
+  // multi-layer model converts a prepared all-clump bed instead ([fidelity]).
+  fidelity::Representation representation = fidelity::Representation::clump;
   double solid_fraction = 0.58;        // expected in the settled bed: sizes the number of stones
   double overfill = 1.10;              // stones generated / stones expected in the profile
   double fixed_size = 0.0;             // m; > 0: every stone has this sieve size (tests), else graded
@@ -79,6 +83,23 @@ struct PushSettings {
   bool sleeper_held_vertically = false;
 };
 
+// The model a push runs: the fidelity policy that converts the prepared bed (fidelity/policy.hpp)
+// and the ball material. Balls are the material "ball": the ballast's, with this rolling
+// friction and friction; a ball-ball contact has them, a ball-clump contact the smaller of the
+// two materials' values (rolling friction 0 unless the ballast has one), unless a [[pair]] says
+// otherwise.
+struct FidelitySettings {
+  std::string policy = "all-clump";  // NAME[:key=value,...], checked against the design geometry
+  double rolling_friction = 0.3;     // mu_r of the balls (Table 1: ball-ball contacts)
+  std::optional<double> ball_friction;  // mu of the balls in the settling and push; default the ballast's
+  // The re-settling first grows the balls from the radius at which they fit (fidelity::
+  // fitting_radii) to their own at a steady rate over growth_time (s), with growth_friction
+  // (none: the design friction and the balls' rolling friction; a value: that mu for every stone
+  // and no rolling resistance, as the deposition's lowered friction).
+  double growth_time = 0.1;
+  std::optional<double> growth_friction;
+};
+
 struct PushStudyConfig {
   std::filesystem::path source;     // the file it came from
   std::string text;                 // its contents, kept in the packing for reproduction
@@ -92,6 +113,7 @@ struct PushStudyConfig {
   std::vector<dem::PairOverride> pairs;
   PreparationSettings preparation;
   PushSettings push;
+  FidelitySettings fidelity;
   double time_step_safety = 0.2;    // automatic step = safety x critical step
   dem::GuardSettings guards;
 };

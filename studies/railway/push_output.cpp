@@ -35,6 +35,26 @@ constexpr std::size_t kTextWidth = 100;
 // The [push] sleeper_vertical value the push ran with, as the config spells it.
 const char* sleeper_vertical(const PushResult& r) { return r.sleeper_held_vertically ? "held" : "free"; }
 
+// The model's record as (name, number) pairs; the re-settling's only when there was one.
+std::vector<std::pair<std::string, double>> model_numbers(const ModelReport& m) {
+  std::vector<std::pair<std::string, double>> v = {
+      {"rolling_friction", m.rolling_friction}, {"ball_friction", m.ball_friction},
+      {"clumps", static_cast<double>(m.clumps)}, {"balls", static_cast<double>(m.balls)},
+      {"converted", static_cast<double>(m.converted)}, {"elements", static_cast<double>(m.elements)},
+      {"elements_before", static_cast<double>(m.elements_before)}, {"element_ratio", m.element_ratio()},
+      {"springs_dropped", static_cast<double>(m.springs_dropped)}, {"reshaped", static_cast<double>(m.reshaped)},
+      {"smallest_start_fraction", m.smallest_start_fraction}, {"mean_start_fraction", m.mean_start_fraction}};
+  if (m.resettling) {
+    v.push_back({"resettle_wall_seconds", m.resettling->wall_seconds});
+    v.push_back({"resettle_simulated_time", m.resettling->simulated_time});
+    v.push_back({"resettle_force_ratio", m.resettling->unbalanced_force_ratio});
+    v.push_back({"resettle_settled", m.resettling->settled ? 1.0 : 0.0});
+    if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
+      v.push_back({"resettle_sleeper_drop", *m.resettling->sleeper_base_start - *m.resettling->sleeper_base});
+  }
+  return v;
+}
+
 template <class T, class F>
 std::vector<double> column(const std::vector<T>& rows, F field) {
   std::vector<double> out;
@@ -65,6 +85,16 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
       {"time_step", r.time_step}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
       {"stones", static_cast<double>(r.stones)}, {"elements", static_cast<double>(r.elements)}};
   for (const auto& [name, value] : numbers) write_attribute(file, name, value);
+  write_attribute(file, "seed", static_cast<double>(r.seed));
+  write_attribute(file, "config_hash", r.config_hash);
+  write_attribute(file, "revision", r.revision);
+  {
+    const hid_t model = make_group(file, "model");
+    write_attribute(model, "policy", r.model.policy);
+    write_attribute(model, "conversion_point", r.model.conversion_point);
+    for (const auto& [name, value] : model_numbers(r.model)) write_attribute(model, name, value);
+    H5Gclose(model);
+  }
   write_doubles(file, "curve/u", column(r.curve, [](auto& s) { return s.u; }));
   write_doubles(file, "curve/force", column(r.curve, [](auto& s) { return s.force; }));
   write_doubles(file, "curve/heave", column(r.curve, [](auto& s) { return s.heave; }));
@@ -110,6 +140,7 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       << fmt::format("config = \"{}\"\nseed = {}\nstatus = \"{}\"\nsleeper_vertical = \"{}\"\n", p.config.name,
                      p.config.seed, r.status, sleeper_vertical(r));
   if (!r.message.empty()) out << fmt::format("message = \"\"\"{}\"\"\"\n", r.message);
+  out << fmt::format("config_hash = \"{}\"\nrevision = \"{}\"\n", r.config_hash, r.revision);
   out << fmt::format(
       "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\nmean_force = {:.6g}\n"
       "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
@@ -123,6 +154,9 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       r.curve.front().support.shoulder, r.at_peak().pressing.base, r.at_peak().pressing.crib,
       r.at_peak().pressing.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
       r.wall_seconds);
+  // Last: a TOML table ends only at the next one, and readers take the push's numbers from the top level.
+  out << fmt::format("\n[model]\npolicy = \"{}\"\nconversion_point = \"{}\"\n", r.model.policy, r.model.conversion_point);
+  for (const auto& [name, value] : model_numbers(r.model)) out << fmt::format("{} = {:.6g}\n", name, value);
 }
 
 void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p) {
@@ -130,6 +164,22 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
              r.stones, r.elements, r.status);
   fmt::print(out, "  {:<38} {:>12}\n", "quantity", "value");
   const auto row = [&](const std::string& name, const std::string& value) { fmt::print(out, "  {:<38} {:>12}\n", name, value); };
+  const ModelReport& m = r.model;
+  row("model", m.policy);
+  if (m.balls > 0) {
+    row("  stones as clumps / balls", fmt::format("{} / {}", m.clumps, m.balls));
+    row("  ball rolling friction mu_r", fmt::format("{:.3g}", m.rolling_friction));
+    row("  ball friction mu", fmt::format("{:.3g}", m.ball_friction));
+    row("  elements / as prepared", fmt::format("{} / {} ({:.2f})", m.elements, m.elements_before, m.element_ratio()));
+  }
+  if (m.resettling) {
+    row("  re-settled, wall time", scene::format_duration(m.resettling->wall_seconds));
+    row("  re-settled to force ratio", fmt::format("{:.2e}{}", m.resettling->unbalanced_force_ratio,
+                                                   m.resettling->settled ? "" : " (time limit)"));
+    if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
+      row("  sleeper sank while re-settling (mm)",
+          fmt::format("{:.3f}", (*m.resettling->sleeper_base_start - *m.resettling->sleeper_base) * 1e3));
+  }
   row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));
   row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));
   row("sleeper vertically", sleeper_vertical(r));

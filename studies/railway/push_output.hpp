@@ -3,7 +3,13 @@
 //   push.h5       attrs: format = "mfdem-push-1", definitions (the text of push_test.hpp's
 //                 definitions), velocity, distance, peak_force, u_at_peak, max_contact_force,
 //                 contact_force_q999, mean_contact_force, max_inertial_number, final_heave,
-//                 time_step, steps, wall_seconds, stones, elements, status, message
+//                 time_step, steps, wall_seconds, stones, elements, status, message, seed,
+//                 config_hash (FNV-1a of the config text), revision (git, of the code)
+//                 /model attrs: policy, conversion_point, rolling_friction, ball_friction,
+//                   clumps, balls, converted, elements, elements_before, element_ratio,
+//                   springs_dropped, and after a re-settling resettle_wall_seconds,
+//                   resettle_simulated_time, resettle_force_ratio, resettle_settled (1/0),
+//                   resettle_sleeper_drop (m) (model_bed.hpp)
 //                 /curve/{u, force, heave, time}                F(u) samples (m, N, m, s)
 //                 /network/{u, mean_stress, inertial_number, coordination}
 //                 /end_state/contact_body_a, contact_body_b    [contacts] stone indices
@@ -11,7 +17,7 @@
 //                 /end_state/position, displacement            [stones, 3] m
 //                 /end_state/stone_id                          [stones] seeded draw index
 //   push_state.h5 (+ .xdmf): state frames at the start, every millimetre and the end
-//   push_summary.toml and the printed table: the headline numbers.
+//   push_summary.toml and the printed table: the headline numbers, the model in [model] at the end.
 //   rate_check.toml (--check-rate): the two pushes compared, half_velocity/ holding the second.
 #include <filesystem>
 #include <ostream>

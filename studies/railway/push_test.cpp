@@ -91,10 +91,17 @@ double nearest_rank_quantile(std::vector<double>& values, double q) {
   return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
 }
 
+std::string config_hash(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ULL;  // FNV-1a 64-bit offset basis
+  for (unsigned char ch : text) h = (h ^ ch) * 1099511628211ULL;  // and prime
+  return fmt::format("{:016x}", h);
+}
+
 PushResult run_push(const Packing& packing, const PushStudyConfig& c, const PushRun& run) {
   StageSetup stage;
   stage.stone_friction = c.ballast.friction;
   stage.stone_local_damping = c.push.local_damping;
+  stage.ball_friction = c.fidelity.ball_friction;
   dem::RigidBox sleeper = packing.sleeper;
   sleeper.velocity = dem::Vec3::Zero();  // speeds up over the ramp (below)
   sleeper.driven = {true, true, c.push.sleeper_held_vertically};
@@ -104,6 +111,8 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   sim.prepare();
 
   PushResult r;
+  r.seed = packing.config.seed;
+  r.config_hash = config_hash(c.text);
   r.velocity = run.velocity;
   r.distance = run.distance;
   r.time_step = sim.time_step();

@@ -1,5 +1,5 @@
 #pragma once
-// The lateral push test of a prepared bed (definitions in ../shared/design.md):
+// The lateral push test of a prepared bed (the definitions, also printed with every report):
 // - the sleeper is driven along +x at `velocity` (reached after a linear speed-up over
 //   ramp_distance, 0.1 mm by default), held along y, free vertically under its own weight (or,
 //   as an option, held at its settled height, as a PFC wall sleeper), never rotating, until it has moved `distance` (u_end);
@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "dem/simulation.hpp"
+#include "studies/railway/model_bed.hpp"
 #include "studies/railway/packing.hpp"
 
 namespace mfdem::railway {
@@ -92,6 +93,11 @@ struct PushResult {
   std::vector<dem::Vec3> start_position, end_position;  // stone centres
   std::vector<dem::Vec3> displacement;               // end - start (periodic images resolved)
   std::vector<std::int64_t> stone_id;
+  // What the push ran on, so tables need not parse it from other files.
+  ModelReport model;                  // the fidelity policy, mu_r, stones as clumps and balls
+  std::uint64_t seed = 0;             // of the packing
+  std::string config_hash;            // of the config text (config_hash())
+  std::string revision;               // of the code (set by the caller that knows it)
 
   const ForceSample& at_peak() const { return curve[peak_sample]; }  // its parts, support, pressing
 };
@@ -120,6 +126,9 @@ std::vector<double> window_mean_forces(const std::vector<ForceSample>& curve, do
 
 // The x-z profile's area times the section length, minus the sleeper: V of the mean stress.
 double bed_volume(const SectionGeometry& g);
+
+// 64-bit FNV-1a of the text, as 16 hex digits: names a config's exact text in outputs.
+std::string config_hash(const std::string& text);
 
 // Nearest-rank quantile q in (0, 1] of the values (sorted in place).
 double nearest_rank_quantile(std::vector<double>& values, double q);

@@ -1,5 +1,7 @@
 #include "studies/railway/section_simulation.hpp"
 
+#include <algorithm>
+
 namespace mfdem::railway {
 namespace {
 
@@ -34,14 +36,26 @@ dem::Simulation make_section_simulation(const PushStudyConfig& c, const dem::Dom
   materials.add(ballast);
   materials.add(c.sleeper);
   materials.add(c.floor);
-  for (const auto& o : c.pairs) materials.add_override(o);
+  const bool any_ball = std::any_of(stones.begin(), stones.end(), [](const dem::ClumpSpec& s) { return s.material == kBall; });
+  // Only a bed with balls has the ball material: an all-clump run then has no rolling channel at
+  // all, bitwise and in cost as before the multi-layer model existed.
+  if (any_ball) {
+    dem::Material ball = ballast;
+    ball.name = "ball";
+    ball.rolling_friction = stage.ball_rolling_friction.value_or(c.fidelity.rolling_friction);
+    ball.friction = stage.ball_friction.value_or(stage.stone_friction);
+    materials.add(ball);
+  }
+  for (const auto& o : c.pairs)
+    if (any_ball || (o.material_a != "ball" && o.material_b != "ball")) materials.add_override(o);
   dem::SimulationSettings settings;
   settings.time_step_safety = c.time_step_safety;
+  if (stage.time_step) settings.time_step = *stage.time_step;
   settings.guards = c.guards;
   settings.gravity *= stage.gravity_factor;
   dem::Simulation sim(domain, materials, settings);
   for (dem::ClumpSpec stone : stones) {
-    stone.material = kBallast;
+    if (stone.material != kBall) stone.material = kBallast;
     sim.add_clump(stone);
   }
   const SectionGeometry& g = c.geometry;

@@ -27,11 +27,11 @@ DrawnStone StoneFactory::draw(std::int64_t k) const {
   const auto& shape = library_.templates[d.template_index];
   DrawnStone s;
   s.record = {k, d.template_index, d.size};
-  if (config_.stones.representation == "clump") {
+  if (config_.stones.representation == fidelity::Representation::clump) {
     s.body = fidelity::stone_as_clump(shape, d, config_.ballast.density, kBallast, dem::Vec3::Zero());
     s.reach = fidelity::template_reach(shape) * d.size;
   } else {
-    s.body = dem::sphere_body(fidelity::stone_as_ball(shape, d, kBallast, dem::Vec3::Zero()), config_.ballast.density);
+    s.body = dem::sphere_body(fidelity::stone_as_ball(shape, d, kBall, dem::Vec3::Zero()), config_.ballast.density);
     s.reach = shape.equivalent_radius(d.size);
   }
   return s;

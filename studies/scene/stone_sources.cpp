@@ -24,7 +24,8 @@ StoneBodies generate_stone_group(const config::Section& s, const dem::MaterialTa
   const dem::Vec3 hi = to_vec(s.vec3("max", "region corner in m"));
   const long long count = s.integer("count", {.min = 1}, "number of stones");
   const int material = material_key(s, materials);
-  const std::string representation = s.choice("representation", {"clump", "ball"}, "clump");
+  const fidelity::Representation representation =
+      fidelity::representation_named(s.choice("representation", {"clump", "ball"}, "clump"));
   const double fixed_size = s.number_or("size", 0.0, {.min = 0.0}, "sieve size in m (0: graded)");
   const dem::Vec3 velocity = to_vec(s.vec3_or("velocity", {0, 0, 0}, "velocity in m/s"));
   const double random_speed = s.number_or("random_speed", 0.0, {.min = 0.0}, "random speed in m/s");
@@ -47,7 +48,7 @@ StoneBodies generate_stone_group(const config::Section& s, const dem::MaterialTa
     draws[k] = sampler.draw(first_stone + k);
     if (fixed_size > 0.0) draws[k].size = fixed_size;
     const auto& shape = templates[draws[k].template_index];
-    reach = std::max(reach, representation == "ball" ? shape.equivalent_radius(draws[k].size)
+    reach = std::max(reach, representation == fidelity::Representation::ball ? shape.equivalent_radius(draws[k].size)
                                                      : fidelity::template_reach(shape) * draws[k].size);
   }
   const double pitch = 2.0 * reach * 1.02;  // no two stones overlap at the start
@@ -61,7 +62,7 @@ StoneBodies generate_stone_group(const config::Section& s, const dem::MaterialTa
     const dem::Vec3 jitter(gsl_rng_uniform(rng.get()) - 0.5, gsl_rng_uniform(rng.get()) - 0.5,
                            gsl_rng_uniform(rng.get()) - 0.5);
     const auto& shape = templates[draws[k].template_index];
-    if (representation == "clump") {
+    if (representation == fidelity::Representation::clump) {
       auto c = fidelity::stone_as_clump(shape, draws[k], density, material, centre);
       c.velocity = velocity + 2.0 * random_speed * jitter;
       out.clumps.push_back(std::move(c));

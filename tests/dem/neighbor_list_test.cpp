@@ -124,18 +124,21 @@ TEST_CASE("the cell list finds exactly the brute-force pairs across periodic fac
   CHECK(across > 100);
 }
 
-TEST_CASE("the cell list works with the smallest periodic box it accepts (three cells)", "[dem][neighbours][periodic]") {
+TEST_CASE("the cell list works with the smallest periodic box it accepts (two reaches)", "[dem][neighbours][periodic]") {
+  // Cutoff 2 x 0.04 + skin = 0.084 m; a box of 0.17 m is just over two reaches: a scan then meets
+  // some cells twice, through two images, and must keep only the one in reach.
+  const double edge = GENERATE(0.17, 0.19, 0.26);
   Cloud cloud(13);
-  // Cutoff 2 x 0.04 + skin = 0.084 m; a box of 0.26 m holds three cells per axis.
-  const double edge = 0.26;
-  cloud.scatter(300, Vec3::Zero(), Vec3::Constant(edge), 0.01, 0.04);
+  cloud.scatter(150, Vec3::Zero(), Vec3::Constant(edge), 0.01, 0.04);
+  cloud.scatter(150, Vec3::Constant(-edge), Vec3::Constant(2.0 * edge), 0.01, 0.04);  // unwrapped
   const Domain domain = box_domain(Vec3::Zero(), Vec3::Constant(edge), {true, true, true});
+  CAPTURE(edge);
   CHECK(compare(cloud.elements, domain, kSkin) > 300);
-  // One cell fewer is refused with a message that names the axis and the required length.
+  // Below two reaches it is refused with a message that names the axis and the required length.
   const Domain too_small = box_domain(Vec3::Zero(), Vec3(0.16, edge, edge), {true, true, true});
   CHECK_THROWS_WITH(mfdem::dem::build_pair_list(cloud.elements, too_small, kSkin),
                     Catch::Matchers::Contains("periodic box length along axis x") &&
-                        Catch::Matchers::Contains("must be at least 3 x (largest diameter + skin)"));
+                        Catch::Matchers::Contains("must be at least 2 x (largest diameter + skin) = 0.16"));
 }
 
 TEST_CASE("the cell list clamps elements far outside a walled box into the edge cells without losing pairs",

@@ -481,7 +481,7 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
   const auto mini = railway::load_push_config("mini");
   CHECK(mini.name == "mini");
   CHECK(mini.geometry.sleeper_length == 0.30);
-  CHECK(mini.stones.representation == "clump");
+  CHECK(mini.stones.representation == mfdem::fidelity::Representation::clump);
   for (const char* name : {"standard", "paper"}) {
     const auto full = railway::load_push_config(name);
     CHECK(full.geometry.sleeper_length == 2.6);
