@@ -243,25 +243,19 @@ std::vector<SpringState> Simulation::contact_springs() const {
   return out;
 }
 
-// Box contacts take element positions as integrated, not their periodic images. That is exact
-// while a box keeps off the periodic faces: an element can be a periodic image away only in
-// the skin/2 it moves past a face before the next rebuild wraps it, so a box that stays more
-// than the largest radius + the largest skin/2 from a face never meets such an element.
+// A box sees each element at its periodic image nearest the box's centre (box_image), so it may
+// lie anywhere, across a periodic face too; but the gap it leaves to its own image must be wider
+// than any element, or an element in it would touch both and be seen by one.
 void Simulation::check_boxes_clear_periodic_faces() const {
-  const double largest_skin = settings_.skin > 0.0 ? settings_.skin : kMaxSkinFactor * base_skin_;
-  const double margin = largest_radius_ + 0.5 * largest_skin;
   for (const auto& box : boxes_)
     for (int a = 0; a < 3; ++a) {
       if (!domain_.periodic[a]) continue;
-      const double low = box.centre[a] - box.half_extent[a] - domain_.min[a];
-      const double high = domain_.max[a] - (box.centre[a] + box.half_extent[a]);
-      if (std::min(low, high) < margin)
+      const double gap = domain_.length()[a] - 2.0 * box.half_extent[a];
+      if (gap <= 2.0 * largest_radius_)
         throw std::invalid_argument(fmt::format(
-            "box '{}' comes within {:.4g} m of the periodic faces along {} (its extent [{:.4g}, {:.4g}] m "
-            "in the domain [{:.4g}, {:.4g}] m); boxes must keep at least the largest element radius + "
-            "half the skin = {:.4g} m from them (box contacts do not see periodic images)",
-            box.name, std::min(low, high), "xyz"[a], box.centre[a] - box.half_extent[a],
-            box.centre[a] + box.half_extent[a], domain_.min[a], domain_.max[a], margin));
+            "box '{}' is {:.4g} m long along the periodic axis {} of length {:.4g} m: the gap to its periodic "
+            "image, {:.4g} m, must be wider than the largest element diameter {:.4g} m",
+            box.name, 2.0 * box.half_extent[a], "xyz"[a], domain_.length()[a], gap, 2.0 * largest_radius_));
     }
 }
 

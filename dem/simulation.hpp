@@ -124,8 +124,9 @@ class Simulation {
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
   // list and evaluates the first forces. Call after adding bodies and walls.
   void prepare();
-  // Changes the radius of element e between steps (after prepare()): a ball grown into place.
-  // Growth counts against the neighbour list's skin as movement does, so no contact is missed;
+  // Changes the radius of element e from the next step on (after prepare()): a ball grown into
+  // place. It takes effect after that step's drift, before its forces. Growth counts against
+  // the neighbour list's skin as movement does, so no contact is missed;
   // the elastic energy it adds to the element's contacts counts as work put in (EnergyReport::
   // work_by_walls); the time step is not re-derived (give the step of the largest radii).
   void set_element_radius(Index e, double radius);
@@ -294,6 +295,14 @@ class Simulation {
     return !(d2 >= pair_reach2_[p]);  // a NaN is not "apart": the finiteness guards name its body
   }
   bool any_periodic_ = false;
+  // x moved to its periodic image nearest the box centre, so that a box sees the elements across
+  // a periodic face; x itself, to the bit, when no image is nearer.
+  [[gnu::always_inline]] inline Vec3 box_image(const Vec3& x, const RigidBox& box) const {
+    if (!any_periodic_) return x;
+    const Vec3 d = x - box.centre;
+    const Vec3 shift = domain_.nearest_image(d) - d;
+    return shift.isZero() ? x : Vec3(x + shift);
+  }
   std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]
   std::vector<std::uint8_t> wall_active_;     // [element * walls + wall]
@@ -323,7 +332,10 @@ class Simulation {
   };
   std::vector<ChunkEnergy> pair_chunk_energy_, body_chunk_energy_;
   double max_move2_ = 0.0;
-  double radius_growth_ = 0.0;  // largest growth of an element's radius since the last build, m
+  double radius_growth_ = 0.0;         // largest growth of an element's radius since the last build, m
+  std::vector<double> build_radius_;   // element radii at the last build
+  std::vector<std::pair<Index, double>> pending_radius_;  // set_element_radius, for the next step
+  void apply_pending_radii();
   bool gather_and_kick_ = true;  // false only for the first force evaluation
 
   double dt_ = 0.0;

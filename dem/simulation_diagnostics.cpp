@@ -34,7 +34,8 @@ double Simulation::wall_elastic_energy(Index e, std::size_t w) const {
 double Simulation::box_elastic_energy(Index e, std::size_t k) const {
   if (!box_active_[e * boxes_.size() + k]) return 0.0;
   const RigidBox& box = boxes_[k];
-  const auto contact = sphere_box_contact(elements_.position[e], elements_.radius[e], box.centre, box.half_extent);
+  const auto contact =
+      sphere_box_contact(box_image(elements_.position[e], box), elements_.radius[e], box.centre, box.half_extent);
   if (!contact) return 0.0;
   const PairParameters& pp = materials_.pair(box.material, elements_.material[e]);
   const ContactHistory& h = box_history_[e * boxes_.size() + k];

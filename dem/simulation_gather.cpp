@@ -128,14 +128,15 @@ void Simulation::gather_chunk(Index c) {
           const RigidBox& box = boxes_[k];
           std::uint8_t& active = box_active_[e * nx + k];
           ContactHistory& history = box_history_[e * nx + k];
-          const auto contact = sphere_box_contact(xe, re, box.centre, box.half_extent);
+          const Vec3 xi = box_image(xe, box);  // the element as the box sees it
+          const auto contact = sphere_box_contact(xi, re, box.centre, box.half_extent);
           if (!contact) {
             if (active) {
               active = 0;
               // As for walls: the springs' energy goes to friction when the contact opens.
-              const Vec3 nearest = box.centre + (xe - box.centre).cwiseMax(-box.half_extent).cwiseMin(box.half_extent);
-              const Vec3 n = (xe - nearest).normalized();
-              const Vec3 v = vb + wb.cross(xe - xb - re * n) - box.velocity - box_growth_velocity(box, xe);
+              const Vec3 nearest = box.centre + (xi - box.centre).cwiseMax(-box.half_extent).cwiseMin(box.half_extent);
+              const Vec3 n = (xi - nearest).normalized();
+              const Vec3 v = vb + wb.cross(xe - xb - re * n) - box.velocity - box_growth_velocity(box, xi);
               acc.friction += released_spring_energy(materials_.pair(box.material, elements_.material[e]),
                                                      history, re, v - v.dot(n) * n, wb - wb.dot(n) * n, dt);
               history = ContactHistory{};
@@ -149,7 +150,7 @@ void Simulation::gather_chunk(Index c) {
           g.overlap = contact->overlap;
           if (g.overlap > overlap_limit * re && acc.bad_body < 0) acc.bad_body = b;
           const Vec3 arm = -(re - 0.5 * g.overlap) * g.normal;
-          const Vec3 growth = box_growth_velocity(box, xe);
+          const Vec3 growth = box_growth_velocity(box, xi);
           g.relative_velocity = vb + wb.cross(xe - xb + arm) - box.velocity - growth;
           g.relative_spin = wb;
           g.frame_spin = 0.0;

@@ -24,21 +24,70 @@ void Simulation::maybe_rebuild() {
 
 void Simulation::set_element_radius(Index e, double radius) {
   if (!prepared_) throw std::logic_error("set_element_radius: call prepare() first");
+  if (e < 0 || e >= elements_.size())
+    throw std::invalid_argument(fmt::format("element {} does not exist ({} elements)", e, elements_.size()));
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw std::invalid_argument(fmt::format("element {}: radius must be a positive finite number (got {})", e, radius));
-  const double growth = radius - elements_.radius[e];
-  if (growth == 0.0) return;
-  const double before = element_elastic_energy(e);
-  elements_.radius[e] = radius;
-  radius_growth_ = std::max(radius_growth_, growth);
-  largest_radius_ = std::max(largest_radius_, radius);
-  const auto reach2 = [&](Index p) {
-    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
-    pair_reach2_[p] = reach * reach;
-  };
-  for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) reach2(p);
-  for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) reach2(pairs_.as_second_pair[k]);
-  work_by_walls_ += element_elastic_energy(e) - before;
+  pending_radius_.emplace_back(e, radius);
+}
+
+// The new radii take effect between the drift and the force evaluation, as a time-dependent
+// potential does in velocity Verlet, so that the step's forces see them. The work they do is the
+// elastic energy they add at the new positions, plus half the change of the normal forces times
+// the step's drift (1/2 dF . v dt): velocity Verlet's kinetic energy takes the new forces for the
+// whole drift, and without that term the account drifts by about w dt of the work (first order).
+void Simulation::apply_pending_radii() {
+  const Vec3 length = domain_.length();
+  for (const auto& [e, radius] : pending_radius_) {
+    const double old_radius = elements_.radius[e];
+    if (radius == old_radius) continue;
+    const double before = element_elastic_energy(e);
+    const Vec3& ve = bodies_.velocity[elements_.body[e]];
+    double drift_work = 0.0;
+    // The normal spring's change on e, kn (d_new - d_old) along n (n pointing into e), and the
+    // drift velocity of e relative to the other side.
+    const auto add = [&](double kn, double gap_old, double gap_new, const Vec3& n, const Vec3& other_velocity) {
+      const double change = kn * (std::max(0.0, -gap_new) - std::max(0.0, -gap_old));
+      drift_work += 0.5 * dt_ * change * n.dot(ve - other_velocity);
+    };
+    const auto pair = [&](Index p) {
+      const Index i = pairs_.first[p], j = pairs_.second[p];
+      const Vec3 d = separation(p, length);
+      const double distance = d.norm();
+      if (distance == 0.0) return;
+      const Index other = i == e ? j : i;
+      const Vec3 n = (i == e ? -d : d) / distance;  // from the other element into e
+      const double kn = materials_.pair(elements_.material[i], elements_.material[j]).normal_stiffness;
+      const double rest = elements_.radius[other];
+      add(kn, distance - old_radius - rest, distance - radius - rest, n, bodies_.velocity[elements_.body[other]]);
+    };
+    for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) pair(p);
+    for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) pair(pairs_.as_second_pair[k]);
+    for (const auto& wall : walls_) {
+      const double gap = (elements_.position[e] - wall.point).dot(wall.normal);
+      add(materials_.pair(wall.material, elements_.material[e]).normal_stiffness, gap - old_radius, gap - radius,
+          wall.normal, wall.velocity);
+    }
+    for (const auto& box : boxes_) {
+      const Vec3 x = box_image(elements_.position[e], box);
+      const auto contact = sphere_box_contact(x, radius, box.centre, box.half_extent);
+      if (!contact) continue;
+      const double gap_new = -contact->overlap, gap_old = gap_new + (radius - old_radius);
+      add(materials_.pair(box.material, elements_.material[e]).normal_stiffness, gap_old, gap_new, contact->normal,
+          box.velocity);
+    }
+    elements_.radius[e] = radius;
+    radius_growth_ = std::max(radius_growth_, radius - build_radius_[e]);
+    largest_radius_ = std::max(largest_radius_, radius);
+    const auto reach2 = [&](Index p) {
+      const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+      pair_reach2_[p] = reach * reach;
+    };
+    for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) reach2(p);
+    for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) reach2(pairs_.as_second_pair[k]);
+    work_by_walls_ += element_elastic_energy(e) - before + drift_work;
+  }
+  pending_radius_.clear();
 }
 
 void Simulation::rebuild() {
@@ -98,6 +147,7 @@ void Simulation::rebuild() {
     pair_dashpot_[p] = damping_coefficient(pp.damping_ratio, mi * mj / (mi + mj), pp.normal_stiffness);
   }
   build_position_ = elements_.position;
+  build_radius_ = elements_.radius;
   radius_growth_ = 0.0;
   ++rebuilds_;
   scan_walls_ = true;

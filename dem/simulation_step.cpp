@@ -36,6 +36,7 @@ void Simulation::step() {
     box.centre += dt_ * box.velocity;
     box.half_extent += dt_ * box.growth_rate;
   }
+  if (!pending_radius_.empty()) apply_pending_radii();
   maybe_rebuild();
   evaluate_forces();
   kick_boxes(0.5 * dt_);

@@ -91,7 +91,9 @@ ConvertedBed convert_bed(const std::vector<dem::ClumpSpec>& bodies, const std::v
 
 namespace mfdem::fidelity {
 
-std::vector<double> fitting_radii(const ConvertedBed& bed, const BedFrame& frame, double smallest_fraction) {
+std::vector<double> fitting_radii(const ConvertedBed& bed, const dem::Domain& domain,
+                                  const std::vector<dem::PlaneWall>& walls, const std::vector<dem::RigidBox>& boxes,
+                                  double smallest_fraction) {
   dem::Elements e;
   std::vector<double> radius;
   for (std::size_t b = 0; b < bed.bodies.size(); ++b) {
@@ -110,11 +112,12 @@ std::vector<double> fitting_radii(const ConvertedBed& bed, const BedFrame& frame
     fit[b] = radius[b];
     if (!bed.reshaped[b]) continue;
     const dem::Vec3& x = bed.bodies[b].position;
-    fit[b] = std::min({fit[b], x.z() - frame.floor_height, distance_to_box(x, frame.sleeper, frame.domain)});
+    for (const auto& w : walls) fit[b] = std::min(fit[b], (x - w.point).dot(w.normal));
+    for (const auto& box : boxes) fit[b] = std::min(fit[b], distance_to_box(x, box, domain));
   }
   // Every overlapping pair at the full radii (no skin): the only neighbours that constrain.
-  const dem::PairList pairs = dem::build_pair_list(e, frame.domain, 0.0);
-  const dem::Vec3 length = frame.domain.length();
+  const dem::PairList pairs = dem::build_pair_list(e, domain, 0.0);
+  const dem::Vec3 length = domain.length();
   for (dem::Index p = 0; p < pairs.size(); ++p) {
     const dem::Index i = pairs.first[p], j = pairs.second[p];
     const auto bi = static_cast<std::size_t>(e.body[i]), bj = static_cast<std::size_t>(e.body[j]);

@@ -16,6 +16,7 @@
 #include "dem/domain.hpp"
 #include "dem/rigid_box.hpp"
 #include "dem/simulation.hpp"
+#include "dem/wall.hpp"
 #include "fidelity/policy.hpp"
 
 namespace mfdem::fidelity {
@@ -52,9 +53,11 @@ ConvertedBed convert_bed(const std::vector<dem::ClumpSpec>& bodies, const std::v
 // An equal-volume ball is wider than its clump across the clump's short axes, so in a packed bed
 // it overlaps its neighbours (tiny bed: by more than half its radius). It is started at the
 // largest radius, up to its own, at which it touches no pebble of another body, no other
-// reshaped ball (two share the gap in proportion to their radii), the floor or the sleeper, and
-// never below `smallest_fraction` of its own; the re-settling grows it to size. Returns a radius
-// per body (its own for bodies not reshaped).
-std::vector<double> fitting_radii(const ConvertedBed& bed, const BedFrame& frame, double smallest_fraction);
+// reshaped ball (two share the gap in proportion to their radii), no wall and no box, and never
+// below `smallest_fraction` of its own; the re-settling grows it to size. Returns a radius per
+// body (its own for bodies not reshaped).
+std::vector<double> fitting_radii(const ConvertedBed& bed, const dem::Domain& domain,
+                                  const std::vector<dem::PlaneWall>& walls, const std::vector<dem::RigidBox>& boxes,
+                                  double smallest_fraction);
 
 }  // namespace mfdem::fidelity

@@ -26,8 +26,15 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kUnstable = 3;  // as `mfdem run`
 
+// The model a command runs: replaces the config's [fidelity] policy, rolling_friction, ball_friction.
+struct ModelOptions {
+  std::optional<std::string> fidelity;
+  std::optional<double> rolling_friction, ball_friction;
+};
+
 struct PackOptions {
   CommonOptions common;
+  ModelOptions model;  // --fidelity: converted after the deposition
   std::string config;
   bool keep_stages = false;
   bool resume = false;
@@ -42,13 +49,32 @@ struct PushOptions {
   std::optional<fs::path> config;
   std::optional<double> velocity_mm_s, distance_mm;
   bool check_rate = false;
-  // The model: replace the config's [fidelity] policy, rolling_friction, ball_friction.
-  std::optional<std::string> fidelity;
-  std::optional<double> rolling_friction, ball_friction;
+  ModelOptions model;
 };
 
 fs::path packing_file(const fs::path& given) {
   return fs::is_directory(given) ? given / "packing.h5" : given;
+}
+
+// The config's [fidelity] with the command line's choices on top.
+void apply_model_options(const ModelOptions& o, railway::PushStudyConfig& config) {
+  if (o.fidelity) config.fidelity.policy = *o.fidelity;
+  if (o.rolling_friction) config.fidelity.rolling_friction = *o.rolling_friction;
+  if (o.ball_friction) config.fidelity.ball_friction = *o.ball_friction;
+}
+
+// The policy checked against a bed whose sleeper base lies `scale` above the floor; a bad one is
+// a config error (exit 2) naming the option or the config key that gave it.
+fidelity::Policy checked_policy(const ModelOptions& o, const railway::PushStudyConfig& config,
+                                const fidelity::BedScale& scale, const std::string& bed) {
+  try {
+    return fidelity::PolicyRegistry::builtin().make(config.fidelity.policy, scale);
+  } catch (const fidelity::PolicyError& e) {
+    const std::string given = o.fidelity ? fmt::format("--fidelity {}", *o.fidelity)
+                                         : fmt::format("{}: fidelity.policy = \"{}\"", config.source.string(),
+                                                       config.fidelity.policy);
+    throw config::ConfigError(fmt::format("{}: {} ({})", given, e.what(), bed));
+  }
 }
 
 void print_preparation(std::ostream& out, const railway::Packing& p, const railway::PreparationReport& r) {
@@ -74,6 +100,13 @@ void print_preparation(std::ostream& out, const railway::Packing& p, const railw
 std::optional<fs::path> pack(const PackOptions& o) {
   railway::PushStudyConfig config = railway::load_push_config(o.config);
   if (o.common.seed_given) config.seed = o.common.seed;
+  std::optional<fidelity::Policy> model;
+  if (o.model.fidelity) {
+    apply_model_options(o.model, config);
+    model = checked_policy(o.model, config, {config.geometry.sleeper_base()},
+                           fmt::format("the design sleeper base lies {:.4f} m above the floor",
+                                       config.geometry.sleeper_base()));
+  }
   fs::create_directories(o.common.out);
   railway::PreparationControl control;
   control.quiet = o.common.quiet;
@@ -81,6 +114,7 @@ std::optional<fs::path> pack(const PackOptions& o) {
   control.checkpoint = o.common.out / "checkpoint.h5";
   control.resume = o.resume;
   control.stop_after = o.stop_after;
+  control.convert_after_deposit = model;
   if (!o.deposit_from.empty()) {
     const fs::path from = o.deposit_from;
     control.deposit_from = fs::is_directory(from) ? from / "checkpoint.h5" : from;
@@ -120,33 +154,12 @@ std::optional<fs::path> pack(const PackOptions& o) {
   return file;
 }
 
-// The config's [fidelity] with the command line's choices on top.
-void apply_model_options(const PushOptions& o, railway::PushStudyConfig& config) {
-  if (o.fidelity) config.fidelity.policy = *o.fidelity;
-  if (o.rolling_friction) config.fidelity.rolling_friction = *o.rolling_friction;
-  if (o.ball_friction) config.fidelity.ball_friction = *o.ball_friction;
-}
-
-// The policy checked against a bed whose sleeper base lies `scale` above the floor; a bad one is
-// a config error (exit 2) naming the option or the config key that gave it.
-fidelity::Policy checked_policy(const PushOptions& o, const railway::PushStudyConfig& config,
-                                const fidelity::BedScale& scale, const std::string& bed) {
-  try {
-    return fidelity::PolicyRegistry::builtin().make(config.fidelity.policy, scale);
-  } catch (const fidelity::PolicyError& e) {
-    const std::string given = o.fidelity ? fmt::format("--fidelity {}", *o.fidelity)
-                                         : fmt::format("{}: fidelity.policy = \"{}\"", config.source.string(),
-                                                       config.fidelity.policy);
-    throw config::ConfigError(fmt::format("{}: {} ({})", given, e.what(), bed));
-  }
-}
-
 int push(const PushOptions& o, const fs::path& packing_path) {
   const railway::Packing packing = railway::load_packing(packing_path);
   railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
-  apply_model_options(o, config);
+  apply_model_options(o.model, config);
   const fidelity::Policy policy = checked_policy(
-      o, config, railway::bed_frame(packing).scale(),
+      o.model, config, railway::bed_frame(packing).scale(),
       fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor", packing_path.string(),
                   railway::bed_frame(packing).scale().sleeper_base));
   railway::PushRun run;
@@ -207,6 +220,19 @@ int guarded(const std::function<int()>& work) {
   }
 }
 
+void add_model_options(CLI::App& command, ModelOptions& o, const std::string& when) {
+  command.add_option_function<std::string>("--fidelity", [&o](const std::string& p) { o.fidelity = p; },
+                                           "The model: a fidelity policy that converts clumps to balls " + when +
+                                               ": all-clump, all-ball, layer-by-height:h=M (or h_fraction=F), "
+                                               "zone-by-distance:d=M (docs/model.md)");
+  command.add_option_function<double>("--rolling-friction", [&o](const double& m) { o.rolling_friction = m; },
+                                      "Rolling friction mu_r of the balls (default: the config's [fidelity], 0.3)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_option_function<double>("--ball-friction", [&o](const double& m) { o.ball_friction = m; },
+                                      "Friction mu of the balls (default: the ballast's)")
+      ->check(CLI::NonNegativeNumber);
+}
+
 void add_push_options(CLI::App& command, PushOptions& o) {
   command.add_option_function<double>("--velocity", [&o](const double& v) { o.velocity_mm_s = v; },
                                       "Sleeper velocity in mm/s (default: the config's [push] velocity)")
@@ -214,17 +240,9 @@ void add_push_options(CLI::App& command, PushOptions& o) {
   command.add_option_function<double>("--distance", [&o](const double& d) { o.distance_mm = d; },
                                       "Push distance u_end in mm (default: the config's, 5 mm)")
       ->check(CLI::PositiveNumber);
-  command.add_option_function<std::string>("--fidelity", [&o](const std::string& p) { o.fidelity = p; },
-                                           "The model: a fidelity policy that converts the prepared bed's clumps to "
-                                           "balls before the push (re-settled first): all-clump, all-ball, "
-                                           "layer-by-height:h=M (or h_fraction=F), zone-by-distance:d=M "
-                                           "(default: the config's [fidelity] policy, all-clump)");
-  command.add_option_function<double>("--rolling-friction", [&o](const double& m) { o.rolling_friction = m; },
-                                      "Rolling friction mu_r of the balls (default: the config's [fidelity], 0.3)")
-      ->check(CLI::NonNegativeNumber);
-  command.add_option_function<double>("--ball-friction", [&o](const double& m) { o.ball_friction = m; },
-                                      "Friction mu of the balls (default: the ballast's)")
-      ->check(CLI::NonNegativeNumber);
+  add_model_options(command, o.model,
+                    "before the push (the prepared bed converted and re-settled; default: the config's [fidelity] "
+                    "policy, all-clump)");
   command.add_flag("--check-rate", o.check_rate,
                    "Repeat the push at half the velocity (OUT/half_velocity) and report the change of the peak "
                    "force, the mean force and the mean F over each mm (OUT/rate_check.toml)");
@@ -256,6 +274,10 @@ void add_push_commands(CLI::App& app, Action& action) {
   pack_command->add_option("--stop-after", pack_options->stop_after,
                            "Stop after this stage (deposit, expand, tamp, consolidate, traffic: those the config runs), "
                            "its checkpoint written; go on later with --resume");
+  add_model_options(*pack_command, pack_options->model,
+                    "after the deposition (the later stages run on the model's bed; share the deposition with "
+                    "--deposit-from)");
+  pack_command->get_option("--fidelity")->excludes(resume_flag)->excludes("--continue-from");
   add_common_options(*pack_command, pack_options->common);
   pack_command->footer("Writes OUT/packing.h5 (+ .xdmf for ParaView); push it with 'mfdem push OUT'.\n"
                        "After every stage the bed is saved to OUT/checkpoint.h5 (removed once the packing is\n"
@@ -309,8 +331,8 @@ void add_push_commands(CLI::App& app, Action& action) {
         p.config = one_shot->packing;
         // A bad model is refused before the packing, against the design depth to the sleeper.
         railway::PushStudyConfig design = railway::load_push_config(p.config);
-        apply_model_options(*one_shot, design);
-        checked_policy(*one_shot, design, {design.geometry.sleeper_base()},
+        apply_model_options(one_shot->model, design);
+        checked_policy(one_shot->model, design, {design.geometry.sleeper_base()},
                        fmt::format("the design sleeper base lies {:.4f} m above the floor", design.geometry.sleeper_base()));
         // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
         // pack` refuses to overwrite a checkpoint instead.

@@ -8,6 +8,8 @@
 #include <optional>
 
 #include "dem/spatial_order.hpp"
+#include "fidelity/conversion.hpp"
+#include "studies/railway/ball_growth.hpp"
 #include "studies/railway/compaction_stages.hpp"
 #include "studies/railway/preparation_stage.hpp"
 #include "studies/railway/section_simulation.hpp"
@@ -86,6 +88,27 @@ BedBetweenStages deposit(const PushStudyConfig& c, bool quiet, PreparationReport
   for (const auto& s : drawn) bed.records.push_back(s.record);
   bed.sleeper_centre = sleeper_box(g).centre;
   return bed;
+}
+
+// The alternative conversion point: the deposited bed converted and its balls grown in the
+// deposition's container, with its friction and damping.
+void convert_deposited(const PushStudyConfig& c, const fidelity::Policy& policy, bool quiet, BedBetweenStages& bed,
+                       PreparationReport& report) {
+  const fidelity::BedFrame frame{0.0, sleeper_box(c.geometry), bed.domain};
+  const fidelity::ConvertedBed converted = fidelity::convert_bed(bed.stones, {}, policy, frame, c.ballast.density, kBall);
+  check_balls_fit(c, converted);
+  StageSetup setup = deposition_setup(c);
+  setup.ball_friction = c.preparation.deposition_friction;
+  const GrownBed grown = grow_balls(c, bed.domain, converted, setup);
+  bed.stones = grown.bodies;
+  StageReport stage = grown.report;
+  stage.name = "convert";
+  report.stages.push_back(stage);
+  if (!quiet)
+    fmt::print(stderr, "convert: {} of {} deposited stones made balls by {} ({} reshaped, grown from {:.2f} (smallest) / "
+               "{:.2f} (mean) of their radius in {})\n", converted.converted, bed.stones.size(), policy.describe(),
+               grown.reshaped, grown.smallest_start_fraction, grown.mean_start_fraction,
+               scene::format_duration(stage.wall_seconds));
 }
 
 // Step 4: trims the deposited bed to the profile and cuts the sleeper's place (tamping_depth
@@ -235,6 +258,12 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     bed = deposit(c, control.quiet, report, control.stage_directory);
     if (done("deposit", names.front())) return std::nullopt;
   }
+  if (control.convert_after_deposit) {
+    if (bed.trimmed)
+      throw std::invalid_argument("a model is made after the deposition: this bed is past it (--resume or "
+                                  "--continue-from); start from the deposition (--deposit-from)");
+    convert_deposited(c, *control.convert_after_deposit, control.quiet, bed, report);
+  }
   if (!bed.trimmed) {
     trim(c, bed, report);
     if (!control.quiet && next == 0)
@@ -273,6 +302,10 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   p.unbalanced_force_ratio = settling.sim.unbalanced_force_ratio();
   p.springs = settling.sim.contact_springs();
   p.continued_from = report.continued_from;
+  if (control.convert_after_deposit) {
+    p.model = control.convert_after_deposit->describe();
+    p.conversion_point = "after deposition";
+  }
   return p;
 }
 

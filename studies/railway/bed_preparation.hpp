@@ -58,6 +58,7 @@
 #include <string>
 #include <vector>
 
+#include "fidelity/policy.hpp"
 #include "studies/railway/packing.hpp"
 #include "studies/railway/preparation_checkpoint.hpp"
 #include "studies/railway/stage_runner.hpp"
@@ -81,6 +82,11 @@ struct PreparationControl {
   // already prepared. Its stages are reported after the packing's own, named traffic_2,
   // settle_2, ... where the name was taken.
   std::filesystem::path continue_from;
+  // With it, the deposited bed (fresh or from deposit_from) is converted by this policy before
+  // the trimming (the policy sees the design sleeper), its balls grown into place with the
+  // deposition's friction and walls (ball_growth.hpp), and every later stage runs on the model's
+  // bed: the alternative conversion point of model_bed.hpp.
+  std::optional<fidelity::Policy> convert_after_deposit;
 };
 
 // The stages a preparation with this config can stop after: "deposit", then those of expand,

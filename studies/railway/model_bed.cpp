@@ -2,10 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <memory>
 
 #include "dem/state_file.hpp"
+#include "fidelity/shape_library.hpp"
+#include "studies/railway/ball_growth.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/scene/progress.hpp"
 
@@ -13,9 +14,6 @@ namespace mfdem::railway {
 namespace {
 
 constexpr double kGravity = 9.81;  // m/s^2, the solver's default
-// A ball never starts below this fraction of its radius (a clump flat on the floor has its
-// centre low; growing from less would take long and gain nothing).
-constexpr double kSmallestStartFraction = 0.5;
 
 double lifting_energy(const std::vector<dem::ClumpSpec>& stones, const std::vector<StoneRecord>& records) {
   double mass = 0.0, size = 0.0;
@@ -38,22 +36,51 @@ fidelity::Policy make_policy(const std::string& spec, const Packing& packing) {
   return fidelity::PolicyRegistry::builtin().make(spec, bed_frame(packing).scale());
 }
 
-ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidelity::Policy& policy,
-                   const ModelControl& control) {
-  ModelBed out{packing, {}};
-  ModelReport& r = out.report;
+std::int64_t all_clump_elements(const PushStudyConfig& c, const std::vector<dem::ClumpSpec>& bodies,
+                                const std::vector<StoneRecord>& stones) {
+  const fidelity::ShapeLibrary library =
+      c.stones.library.empty() ? fidelity::standard_library() : fidelity::load_library(c.stones.library);
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < bodies.size(); ++k)
+    n += bodies[k].material == kBall ? static_cast<std::int64_t>(library.templates.at(stones[k].template_index).pebbles.size())
+                                     : static_cast<std::int64_t>(bodies[k].pebbles.size());
+  return n;
+}
+
+ModelReport converted_report(const PushStudyConfig& c, const fidelity::Policy& policy,
+                             const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones) {
+  ModelReport r;
   r.policy = policy.describe();
   r.rolling_friction = c.fidelity.rolling_friction;
   r.ball_friction = c.fidelity.ball_friction.value_or(c.ballast.friction);
-  const fidelity::ConvertedBed converted =
-      fidelity::convert_bed(packing.bodies, packing.springs, policy, bed_frame(packing), c.ballast.density, kBall);
   r.clumps = converted.clumps;
   r.balls = converted.balls;
   r.converted = converted.converted;
   r.elements = converted.elements_after;
-  r.elements_before = converted.elements_before;
+  r.elements_before = all_clump_elements(c, converted.bodies, stones);
   r.springs_dropped = converted.springs_dropped;
+  return r;
+}
+
+void add_growth(ModelReport& r, const GrownBed& grown) {
+  r.reshaped = grown.reshaped;
+  r.smallest_start_fraction = grown.smallest_start_fraction;
+  r.mean_start_fraction = grown.mean_start_fraction;
+}
+
+ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidelity::Policy& policy,
+                   const ModelControl& control) {
+  ModelBed out{packing, {}};
+  const fidelity::ConvertedBed converted =
+      fidelity::convert_bed(packing.bodies, packing.springs, policy, bed_frame(packing), c.ballast.density, kBall);
+  ModelReport& r = out.report;
+  r = converted_report(c, policy, converted, packing.stones);
+  if (!packing.model.empty()) {  // converted while it was prepared (mfdem pack --fidelity)
+    r.policy = converted.converted ? packing.model + " then " + r.policy : packing.model;
+    r.conversion_point = packing.conversion_point;
+  }
   if (converted.converted == 0) return out;  // bitwise the packing as prepared
+  check_balls_fit(c, converted);
   if (!control.resettle) {
     out.packing.bodies = converted.bodies;
     out.packing.springs = converted.springs;
@@ -72,92 +99,33 @@ ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidel
   if (!control.quiet)
     fmt::print(stderr, "model {}: {} of {} stones made balls ({} clumps, {} balls), {} -> {} elements; re-settling\n",
                r.policy, r.converted, converted.bodies.size(), r.clumps, r.balls, r.elements_before, r.elements);
+  const std::filesystem::path frames_path =
+      control.stage_directory.empty() ? std::filesystem::path() : control.stage_directory / "resettle.h5";
+  const GrownBed grown = grow_balls(c, packing.domain, converted, settle, frames_path);
+  add_growth(r, grown);
+  if (!control.quiet && grown.report.steps > 0)
+    fmt::print(stderr, "grow: {} balls from {:.2f} (smallest) / {:.2f} (mean) of their radius to size over {} s, {}\n",
+               r.reshaped, r.smallest_start_fraction, r.mean_start_fraction, c.fidelity.growth_time,
+               scene::format_duration(grown.report.wall_seconds));
+  if (grown.sleeper_centre) settle.sleeper->centre = *grown.sleeper_centre;
 
-  // The balls start where they fit and grow to size at a steady rate over growth_time; the time
-  // step is the one of the full-size bed.
-  const fidelity::BedFrame frame = bed_frame(packing);
-  const std::vector<double> start = fidelity::fitting_radii(converted, frame, kSmallestStartFraction);
-  std::vector<dem::ClumpSpec> bodies = converted.bodies;
-  std::vector<dem::SpringState> springs = converted.springs;
-  r.smallest_start_fraction = 1.0;
-  double fraction_sum = 0.0;
-  std::vector<std::pair<dem::Index, double>> growing;  // element (= first element of the body), full radius
-  dem::Index first_element = 0;
-  for (std::size_t b = 0; b < bodies.size(); ++b) {
-    const dem::Index element = first_element;
-    first_element += static_cast<dem::Index>(bodies[b].pebbles.size());
-    if (!converted.reshaped[b]) continue;
-    const double full = bodies[b].pebbles.front().radius;
-    r.smallest_start_fraction = std::min(r.smallest_start_fraction, start[b] / full);
-    fraction_sum += start[b] / full;
-    ++r.reshaped;
-    if (start[b] < full) growing.emplace_back(element, full);
-    bodies[b].pebbles.front().radius = start[b];
-  }
-  r.mean_start_fraction = r.reshaped ? fraction_sum / static_cast<double>(r.reshaped) : 1.0;
-  const auto keep_last_good = [&](dem::Simulation& sim, auto&& body) {
-    try {
-      return body();
-    } catch (const dem::StabilityError&) {
-      if (!control.stage_directory.empty() && sim.last_good_state()) {
-        dem::StateFile last(control.stage_directory / "resettle.h5", sim,
-                            fmt::format("re-settling of {} as {}: last good state", c.name, r.policy));
-        last.write_snapshot(sim, *sim.last_good_state(), "last good state");
-      }
-      throw;
-    }
-  };
-  StageReport growth;
-  if (!growing.empty()) {
-    StageSetup grow = settle;
-    if (c.fidelity.growth_friction) {
-      grow.stone_friction = *c.fidelity.growth_friction;
-      grow.ball_friction = *c.fidelity.growth_friction;
-      grow.ball_rolling_friction = 0.0;
-    }
-    grow.time_step = c.time_step_safety *
-                     make_section_simulation(c, packing.domain, converted.bodies, settle).stability_limit().limit;
-    dem::Simulation sim = make_section_simulation(c, packing.domain, bodies, grow);
-    sim.set_initial_springs(springs);
-    sim.prepare();
-    std::vector<double> from;
-    for (const auto& [element, full] : growing) from.push_back(sim.elements().radius[element]);
-    const double duration = c.fidelity.growth_time;
-    const StageDrive drive = [&](dem::Simulation& s, double t) {
-      const double share = std::min(1.0, (t + s.time_step()) / duration);  // reached by the step's end
-      for (std::size_t k = 0; k < growing.size(); ++k)
-        s.set_element_radius(growing[k].first, from[k] + share * (growing[k].second - from[k]));
-    };
-    growth = keep_last_good(sim, [&] {
-      return run_until_settled(sim, "grow", c.preparation.equilibrium_ratio, 1.0, duration, true,
-                               RestCriterion::kFixedTime, nullptr, 0.02, 2e-3, drive);
-    });
-    bodies = body_states(sim);
-    // Exactly their own radii (the last step may fall short of growth_time by round-off).
-    for (std::size_t b = 0; b < bodies.size(); ++b) bodies[b].pebbles = converted.bodies[b].pebbles;
-    springs = sim.contact_springs();
-    settle.sleeper->centre = sim.boxes()[0].centre;
-    if (!control.quiet)
-      fmt::print(stderr, "grow: {} balls from {:.2f} (smallest) / {:.2f} (mean) of their radius to size over {} s, {}\n",
-                 r.reshaped, r.smallest_start_fraction, r.mean_start_fraction, duration,
-                 scene::format_duration(growth.wall_seconds));
-  }
-
-  dem::Simulation sim = make_section_simulation(c, packing.domain, bodies, settle);
-  sim.set_initial_springs(springs);
+  dem::Simulation sim = make_section_simulation(c, packing.domain, grown.bodies, settle);
+  sim.set_initial_springs(grown.springs);
   sim.prepare();
   std::unique_ptr<dem::StateFile> frames;
-  if (!control.stage_directory.empty())
-    frames = std::make_unique<dem::StateFile>(control.stage_directory / "resettle.h5", sim,
-                                              fmt::format("re-settling of {} as {}", c.name, r.policy));
-  r.resettling = keep_last_good(sim, [&] {
-    return run_until_settled(sim, "resettle", c.preparation.equilibrium_ratio, lifting_energy(bodies, packing.stones),
-                             c.preparation.max_settling_time, control.quiet, RestCriterion::kForcesAndEnergy,
-                             frames.get());
-  });
-  r.resettling->simulated_time += growth.simulated_time;
-  r.resettling->steps += growth.steps;
-  r.resettling->wall_seconds += growth.wall_seconds;
+  if (!frames_path.empty())
+    frames = std::make_unique<dem::StateFile>(frames_path, sim, fmt::format("re-settling of {} as {}", c.name, r.policy));
+  try {
+    r.resettling = run_until_settled(sim, "resettle", c.preparation.equilibrium_ratio,
+                                     lifting_energy(grown.bodies, packing.stones), c.preparation.max_settling_time,
+                                     control.quiet, RestCriterion::kForcesAndEnergy, frames.get());
+  } catch (const dem::StabilityError&) {
+    if (frames && sim.last_good_state()) frames->write_snapshot(sim, *sim.last_good_state(), "last good state");
+    throw;
+  }
+  r.resettling->simulated_time += grown.report.simulated_time;
+  r.resettling->steps += grown.report.steps;
+  r.resettling->wall_seconds += grown.report.wall_seconds;
   r.resettling->sleeper_base_start = dem::box_bottom(packing.sleeper);
   r.resettling->sleeper_base = dem::box_bottom(sim.boxes()[0]);
   out.packing.bodies = body_states(sim);
@@ -166,6 +134,8 @@ ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidel
   out.packing.springs = sim.contact_springs();
   out.packing.unbalanced_force_ratio = sim.unbalanced_force_ratio();
   out.packing.preparation_time += r.resettling->simulated_time;
+  out.packing.model = r.policy;
+  out.packing.conversion_point = r.conversion_point;
   return out;
 }
 

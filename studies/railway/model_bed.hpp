@@ -2,7 +2,7 @@
 // The bed a model is pushed on: a prepared packing re-represented by a fidelity policy
 // (fidelity/policy.hpp, fidelity/conversion.hpp) and re-settled.
 //
-// The conversion point: the finished packing (all clumps, as `mfdem pack` left it) is converted
+// Two conversion points. The default: the finished packing (all clumps, as `mfdem pack` left it) is converted
 // and settled again with the design friction, the settling's local damping and the sleeper free
 // across the track and vertically. An equal-volume ball is wider than its clump across the
 // clump's short axes and overlaps its neighbours where the clump sat, so each ball starts at the
@@ -11,13 +11,16 @@
 // bed makes room by rearranging, not by lifting); then the bed settles to the preset's equilibrium criterion
 // (equilibrium_ratio, within max_settling_time). So one packing per seed serves every model and every calibration candidate,
 // and models differ only in fidelity. A policy that converts no stone (all-clump, h at the
-// floor) leaves the packing bitwise as it was, and nothing is re-settled.
+// floor) leaves the packing bitwise as it was, and nothing is re-settled. The alternative
+// (`mfdem pack --fidelity`, bed_preparation.hpp): the deposited bed is converted and the stages
+// after the deposition run per model; the deposition can be shared (--deposit-from).
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 
 #include "fidelity/conversion.hpp"
+#include "studies/railway/ball_growth.hpp"
 #include "studies/railway/packing.hpp"
 
 namespace mfdem::railway {
@@ -42,6 +45,11 @@ struct ModelReport {
   double element_ratio() const { return elements_before ? double(elements) / double(elements_before) : 1.0; }
 };
 
+// The record of a conversion, before any growth or re-settling.
+ModelReport converted_report(const PushStudyConfig& config, const fidelity::Policy& policy,
+                             const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones);
+void add_growth(ModelReport& report, const GrownBed& grown);
+
 struct ModelBed {
   Packing packing;
   ModelReport report;
@@ -63,6 +71,10 @@ struct ModelControl {
   // leaves its last good state in it (besides the StabilityError it throws).
   std::filesystem::path stage_directory;
 };
+
+// Elements of the same stones as all clumps (a ball counts its template's pebbles).
+std::int64_t all_clump_elements(const PushStudyConfig& config, const std::vector<dem::ClumpSpec>& bodies,
+                                const std::vector<StoneRecord>& stones);
 
 // Converts `packing` by `policy` with the ball material of `config` ([fidelity]) and re-settles
 // it when a stone was converted. Throws dem::StabilityError when the re-settling turns unstable.

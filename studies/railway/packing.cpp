@@ -131,6 +131,8 @@ void save_packing(const std::filesystem::path& path, const Packing& p, const Sta
   write_vec3_attribute(g, "sleeper_half_extent", p.sleeper.half_extent);
   write_attribute(g, "sleeper_mass", p.sleeper.mass);
   if (!p.continued_from.empty()) write_attribute(g, "continued_from", p.continued_from);
+  if (!p.model.empty()) write_attribute(g, "model", p.model);
+  if (!p.conversion_point.empty()) write_attribute(g, "conversion_point", p.conversion_point);
   std::vector<dem::Index> ids, templates;
   std::vector<double> sizes;
   for (const auto& s : p.stones) {
@@ -254,6 +256,8 @@ Packing load_packing(const std::filesystem::path& path) {
     p.sleeper.half_extent = read_vec3_attribute(g, "sleeper_half_extent");
     p.sleeper.mass = read_attribute(g, "sleeper_mass");
     p.continued_from = dem::h5::read_text_attribute(g, "continued_from");
+    p.model = dem::h5::read_text_attribute(g, "model");
+    p.conversion_point = dem::h5::read_text_attribute(g, "conversion_point");
     p.sleeper.material = kSleeper;
     p.sleeper.driven = {true, true, false};
     const auto ids = dem::h5::read_ints(g, "stone_id");

@@ -8,7 +8,9 @@
 //                           unbalanced_force_ratio (at the end), domain_min, domain_max,
 //                           periodic_y (1 or 0), sleeper_centre, sleeper_half_extent (m),
 //                           sleeper_mass (kg), continued_from (the packing whose bed got more
-//                           traffic, `mfdem pack --continue-from`; absent otherwise)
+//                           traffic, `mfdem pack --continue-from`; absent otherwise), model and
+//                           conversion_point (the fidelity policy that made its balls and when,
+//                           model_bed.hpp; absent for a bed as drawn)
 //   /packing/stone_id       [bodies]  index of the stone's seeded draw (fidelity::StoneSampler)
 //   /packing/template       [bodies]  index of its template in the shape library
 //   /packing/size           [bodies]  sieve size d, m
@@ -58,6 +60,8 @@ struct Packing {
   std::vector<dem::SpringState> springs;  // of its active contacts, element-indexed
   // The packing this one was continued from (`mfdem pack --continue-from`), as given; "" if none.
   std::string continued_from;
+  // The fidelity policy that made its balls and when ("" for a bed as drawn): a model's bed.
+  std::string model, conversion_point;
 
   std::int64_t element_count() const;
 };

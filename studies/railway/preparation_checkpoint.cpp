@@ -68,11 +68,12 @@ std::string first_different_key(const toml::table& a, const toml::table& b, cons
   return "";
 }
 
-// The config without `later` of [preparation] (and name, seed, [push]): what made the bed before.
+// The config without `later` of [preparation] (and name, seed, [push], [fidelity]): what made
+// the bed before.
 template <std::size_t N>
 toml::table part_before(const std::string& text, const std::array<std::string_view, N>& later) {
   toml::table t = toml::parse(text);
-  for (const char* key : {"name", "seed", "push"}) t.erase(key);
+  for (const char* key : {"name", "seed", "push", "fidelity"}) t.erase(key);
   if (toml::table* preparation = t["preparation"].as_table())
     for (const auto key : later) preparation->erase(key);
   return t;

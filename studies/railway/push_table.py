@@ -4,7 +4,9 @@
     /usr/bin/python3 studies/railway/push_table.py OUT [OUT2 ...] [--window-mm 0.25]
 
 OUT is a directory written by `mfdem push` or `mfdem push-test` (push.h5). Prints a Markdown
-table: seed, velocity, stones, elements, peak F and where, the peak of F(u) after a moving mean
+table: seed, the model (fidelity policy; runs before the multi-layer model: all-clump), velocity,
+stones, balls, elements and their ratio to the same stones as all clumps, the re-settling's wall
+time after a conversion, peak F and where, the peak of F(u) after a moving mean
 over --window-mm of displacement (the record interval is 0.01-0.02 mm, so the raw peak can be one
 stick-slip spike; the smoothed peak shows how much), F at u_end, the maximum contact force and its
 99.9 % quantile, the shares of the peak carried by the sleeper's base, crib sides and shoulder
@@ -25,6 +27,9 @@ except ImportError as exc:  # the pyenv python3 first on PATH may lack them
     sys.exit(f"push_table.py needs h5py and numpy ({exc}); run it with /usr/bin/python3")
 
 COLUMNS = [  # (header, key, scale, format)
+    ("balls", "balls", 1.0, "{:,.0f}"),
+    ("elements / all-clump", "element_ratio", 1.0, "{:.2f}"),
+    ("re-settle (min)", "resettle_wall_seconds", 1 / 60, "{:.1f}"),
     ("peak F (kN)", "peak_force", 1e-3, "{:.3f}"),
     ("at u (mm)", "u_at_peak", 1e3, "{:.2f}"),
     ("smoothed peak (kN)", "smoothed_peak", 1e-3, "{:.3f}"),
@@ -73,6 +78,10 @@ def load(out: Path, window: float) -> dict:
                                                "contact_force_q999", "final_heave",
                                                "max_inertial_number", "wall_seconds", "velocity",
                                                "stones", "elements")}
+        model = f["model"].attrs if "model" in f else {}
+        row["model"] = model["policy"].decode() if isinstance(model.get("policy"), bytes) else str(model.get("policy", "all-clump"))
+        for key, absent in (("balls", 0.0), ("element_ratio", 1.0), ("resettle_wall_seconds", 0.0)):
+            row[key] = float(model[key]) if key in model else absent
         u, force = f["curve/u"][...], f["curve/force"][...]
         peak = int(np.argmax(force)) if len(force) else 0
         for part in ("base", "crib", "shoulder"):
@@ -110,11 +119,11 @@ def main() -> None:
     if args.window_mm <= 0:
         sys.exit(f"push_table.py: --window-mm must be > 0, got {args.window_mm}")
     rows = [load(out, args.window_mm * 1e-3) for out in args.outs]
-    headers = ["run", "seed", "v (mm/s)", "stones", "elements"] + [c[0] for c in COLUMNS]
+    headers = ["run", "seed", "model", "v (mm/s)", "stones", "elements"] + [c[0] for c in COLUMNS]
     print("| " + " | ".join(headers) + " |")
     print("|" + "---|" * len(headers))
     for r in rows:
-        cells = [r["name"], r["seed"], f"{r['velocity'] * 1e3:g}", f"{r['stones']:,.0f}",
+        cells = [r["name"], r["seed"], r["model"], f"{r['velocity'] * 1e3:g}", f"{r['stones']:,.0f}",
                  f"{r['elements']:,.0f}"]
         cells += [fmt.format(r[key] * scale) for _, key, scale, fmt in COLUMNS]
         print("| " + " | ".join(cells) + " |")
@@ -122,7 +131,7 @@ def main() -> None:
         # numpy, not statistics: a column of runs from before a field existed is nan, which
         # statistics.stdev cannot take.
         for label, reduce in (("mean", np.mean), ("std", lambda x: np.std(x, ddof=1))):
-            cells = [label, "", "", "", ""]
+            cells = [label, "", "", "", "", ""]
             cells += [fmt.format(reduce([r[key] for r in rows]) * scale).replace("+", "")
                       for _, key, scale, fmt in COLUMNS]
             print("| " + " | ".join(cells) + " |")

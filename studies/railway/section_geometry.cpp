@@ -51,8 +51,9 @@ void validate(const SectionGeometry& g, double largest_stone) {
   need(g.section_length - g.sleeper_width >= largest_stone,
        fmt::format("sleeper_width = {} m: the crib between sleepers (section_length - sleeper_width = {} m) "
                    "must hold a stone ({} m)", g.sleeper_width, g.section_length - g.sleeper_width, largest_stone));
-  // The solver wants a box a pebble radius plus half a skin clear of periodic faces (its
-  // contacts see no periodic images): 1.2 D leaves that with room for the largest pebble.
+  // The crib is the sleeper's gap to its periodic image: the solver needs it wider than any
+  // element (dem::Simulation::check_boxes_clear_periodic_faces), and the equal-volume ball of a
+  // stone of size D is wider than D: 1.2 D leaves room for it.
   if (g.periodic_along_track)
     need(g.section_length - g.sleeper_width >= 1.2 * largest_stone,
          fmt::format("sleeper_width = {} m: with periodic ends the crib (section_length - sleeper_width = {} m) "

@@ -204,18 +204,50 @@ TEST_CASE("a growing box pushes like a box moving at its face's speed", "[box][g
   CHECK((moving.box_force(0) - growing.box_force(0)).norm() < 1e-6 * (moving.box_force(0).norm() + 1.0));
 }
 
-TEST_CASE("a box near a periodic face is refused with a message (box contacts see no images)",
-          "[box][periodic]") {
-  // Reference: the rule in Simulation::check_boxes_clear_periodic_faces, margin = largest
-  // radius + half the largest skin (here a given skin of 0.004 m: 0.02 + 0.002 = 0.022 m).
+TEST_CASE("a box meets a sphere across a periodic face as it meets it inside the box", "[box][periodic]") {
+  // The same sphere resting 1 mm into the side of a box, once in the middle of a periodic axis
+  // and once with the box at the face y = 0 (the sphere across it, at its unwrapped position
+  // beyond the far face): the first evaluation gives the same force, kn x 1 mm along -y on the
+  // box (kn in series, dem/material.hpp); the box straddles the face, the sphere lies near the
+  // far face. Tolerance 1e-9 relative: round-off of the shift.
   dem::Domain domain;
   domain.min = Vec3(-0.5, 0.0, 0.0);
   domain.max = Vec3(0.5, 0.3, 0.5);
   domain.periodic = {false, true, false};
-  dem::SimulationSettings settings;
-  settings.skin = 0.004;
-  auto build = [&](double box_half_width) {
+  auto force_on_box = [&](double box_y, double sphere_y) {
+    dem::SimulationSettings settings;
+    settings.gravity = Vec3::Zero();
     dem::Simulation sim(domain, stone_and_concrete(0.5), settings);
+    dem::SphereSpec s;
+    s.position = Vec3(0.0, sphere_y, 0.2);
+    s.radius = 0.02;
+    sim.add_sphere(s);
+    dem::RigidBox box;
+    box.name = "sleeper";
+    box.half_extent = Vec3(0.1, 0.05, 0.02);
+    box.centre = Vec3(0.0, box_y, 0.2);
+    box.mass = 2.0;
+    box.material = 1;
+    sim.add_box(box);
+    sim.prepare();
+    return sim.box_force(0);
+  };
+  const Vec3 inside = force_on_box(0.15, 0.15 - 0.05 - 0.019);
+  const Vec3 across = force_on_box(0.02, 0.3 + 0.02 - 0.05 - 0.019);  // box spans -0.03..0.07
+  const double kn = 2e6 * 5e9 / (2e6 + 5e9);
+  CHECK(inside.y() == Approx(kn * 1e-3).epsilon(1e-9));
+  CHECK((across - inside).norm() < 1e-9 * inside.norm());
+}
+
+TEST_CASE("a box whose gap to its periodic image is narrower than an element is refused", "[box][periodic]") {
+  // Reference: Simulation::check_boxes_clear_periodic_faces: gap = length - box length must
+  // exceed the largest element diameter (0.04 m here).
+  dem::Domain domain;
+  domain.min = Vec3(-0.5, 0.0, 0.0);
+  domain.max = Vec3(0.5, 0.3, 0.5);
+  domain.periodic = {false, true, false};
+  auto build = [&](double box_half_width) {
+    dem::Simulation sim(domain, stone_and_concrete(0.5), dem::SimulationSettings{});
     dem::SphereSpec s;
     s.position = Vec3(0.3, 0.15, 0.1);
     s.radius = 0.02;
@@ -229,10 +261,10 @@ TEST_CASE("a box near a periodic face is refused with a message (box contacts se
     sim.add_box(box);
     sim.prepare();
   };
-  CHECK_NOTHROW(build(0.15 - 0.023));  // 0.023 m from the faces
-  CHECK_THROWS_WITH(build(0.15 - 0.021),
-                    Catch::Matchers::Contains("box 'sleeper' comes within 0.021 m of the periodic faces along y") &&
-                        Catch::Matchers::Contains("= 0.022 m"));
+  CHECK_NOTHROW(build(0.15 - 0.021));  // a 0.042 m gap
+  CHECK_THROWS_WITH(build(0.15 - 0.019),
+                    Catch::Matchers::Contains("box 'sleeper' is 0.262 m long along the periodic axis y") &&
+                        Catch::Matchers::Contains("0.038 m, must be wider than the largest element diameter 0.04 m"));
 }
 
 TEST_CASE("the force on a box is split by the face each contact leans on", "[box][faces]") {

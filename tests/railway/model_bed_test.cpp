@@ -176,3 +176,42 @@ TEST_CASE("a bad [fidelity] table is refused naming file, key and value", "[rail
   CHECK_THAT(refused("polcy = \"all-ball\""), Catch::Contains("polcy") && Catch::Contains("policy"));
   CHECK(refused("policy = \"layer-by-height:h=0.04\"\nrolling_friction = 0.2") == "accepted");
 }
+
+TEST_CASE("a model whose balls are too wide for the periodic section is refused naming the key", "[railway][model][config]") {
+  const railway::PushStudyConfig c = railway::parse_push_config(tiny_clump_text(), "tiny.toml");  // 0.2 m section
+  fidelity::ConvertedBed bed;
+  dem::ClumpSpec ball;
+  ball.pebbles = {{dem::Vec3::Zero(), 0.045}};
+  bed.bodies = {ball};
+  // 2 x (0.09 + 0.2 x 0.045) = 0.198 m fits in 0.2 m; a 0.05 m ball needs 0.22 m.
+  CHECK_NOTHROW(railway::check_balls_fit(c, bed));
+  bed.bodies[0].pebbles[0].radius = 0.05;
+  CHECK_THROWS_WITH(railway::check_balls_fit(c, bed), Catch::Contains("tiny.toml") &&
+                                                          Catch::Contains("section.section_length = 0.2") &&
+                                                          Catch::Contains("0.2200 m"));
+}
+
+TEST_CASE("a bed converted after its deposition is prepared as the model's own and says so", "[railway][model]") {
+  railway::PreparationControl control;
+  control.quiet = true;
+  const railway::PushStudyConfig c = railway::parse_push_config(tiny_clump_text(), "tiny.toml");
+  control.convert_after_deposit =
+      fidelity::PolicyRegistry::builtin().make("layer-by-height:h_fraction=0.5", {c.geometry.sleeper_base()});
+  railway::PreparationReport report;
+  const railway::Packing p = *railway::prepare_bed(c, control, report);
+  CHECK(p.model == "layer-by-height:h=0.04,h_fraction=0.5");
+  CHECK(p.conversion_point == "after deposition");
+  std::int64_t balls = 0;
+  for (const auto& b : p.bodies) balls += b.material == railway::kBall;
+  CHECK(balls > 50);
+  CHECK(balls < static_cast<std::int64_t>(p.bodies.size()));
+  REQUIRE(report.stages.size() >= 3);
+  CHECK(report.stages[1].name == "convert");
+  // The model's push records it without converting again.
+  const railway::ModelBed m = model(p, p.config, "all-clump");
+  CHECK(m.report.converted == 0);
+  CHECK(m.report.balls == balls);
+  CHECK(m.report.policy == p.model);
+  CHECK(m.report.conversion_point == "after deposition");
+  CHECK(m.report.elements_before > m.report.elements);  // the same stones as clumps
+}
