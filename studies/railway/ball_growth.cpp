@@ -28,6 +28,14 @@ void check_balls_fit(const PushStudyConfig& c, const fidelity::ConvertedBed& con
   for (const auto& b : converted.bodies)
     for (const auto& p : b.pebbles) largest = std::max(largest, p.radius), smallest = std::min(smallest, p.radius);
   const double needed = dem::kPeriodicReaches * (2.0 * largest + kSkinPerSmallestRadius * smallest);
+  // The crib is the sleeper's gap to its periodic image: no element may be wider
+  // (dem::Simulation::check_boxes_clear_periodic_faces).
+  const double crib = c.geometry.section_length - c.geometry.sleeper_width;
+  if (2.0 * largest >= crib)
+    throw config::ConfigError(fmt::format(
+        "{}: section.sleeper_width = {} m leaves a crib of {:.4f} m to the next sleeper, narrower than this model's "
+        "largest ball ({:.4f} m, the equal-volume ball of a large stone); keep that stone a clump (a lower layer, "
+        "a wider zone) or widen the crib", c.source.string(), c.geometry.sleeper_width, crib, 2.0 * largest));
   if (c.geometry.section_length < needed)
     throw config::ConfigError(fmt::format(
         "{}: section.section_length = {} m is too short for this model's balls: a periodic section must hold "

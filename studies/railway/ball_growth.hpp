@@ -26,8 +26,10 @@ struct GrownBed {
 };
 
 // Refuses (config::ConfigError, before any work) a converted bed whose largest ball is too wide
-// for the periodic section: the neighbour search needs the section to hold two largest contact
-// reaches (dem/neighbor_list.hpp); the message names [section] section_length.
+// for the periodic section: the crib (the sleeper's gap to its periodic image) must be wider than
+// any element, and the neighbour search needs the section to hold two largest contact reaches
+// (dem/neighbor_list.hpp); the message names the [section] key. On mini (a 0.08 m crib) 3 of 200
+// seeds draw a stone whose ball is wider (up to 0.082 m): a policy that makes it a ball is refused.
 void check_balls_fit(const PushStudyConfig& config, const fidelity::ConvertedBed& converted);
 
 // Grows the reshaped balls of `converted` in the section `domain` with the boundaries, friction

@@ -131,7 +131,12 @@ void save_packing(const std::filesystem::path& path, const Packing& p, const Sta
   write_vec3_attribute(g, "sleeper_half_extent", p.sleeper.half_extent);
   write_attribute(g, "sleeper_mass", p.sleeper.mass);
   if (!p.continued_from.empty()) write_attribute(g, "continued_from", p.continued_from);
-  if (!p.model.empty()) write_attribute(g, "model", p.model);
+  if (!p.model.empty()) {
+    write_attribute(g, "model", p.model);
+    // The balls' material as made (command-line choices are not in the config text).
+    write_attribute(g, "model_rolling_friction", p.config.fidelity.rolling_friction);
+    write_attribute(g, "model_ball_friction", p.config.fidelity.ball_friction.value_or(p.config.ballast.friction));
+  }
   if (!p.conversion_point.empty()) write_attribute(g, "conversion_point", p.conversion_point);
   std::vector<dem::Index> ids, templates;
   std::vector<double> sizes;
@@ -257,6 +262,10 @@ Packing load_packing(const std::filesystem::path& path) {
     p.sleeper.mass = read_attribute(g, "sleeper_mass");
     p.continued_from = dem::h5::read_text_attribute(g, "continued_from");
     p.model = dem::h5::read_text_attribute(g, "model");
+    if (!p.model.empty()) {
+      p.config.fidelity.rolling_friction = read_attribute(g, "model_rolling_friction");
+      p.config.fidelity.ball_friction = read_attribute(g, "model_ball_friction");
+    }
     p.conversion_point = dem::h5::read_text_attribute(g, "conversion_point");
     p.sleeper.material = kSleeper;
     p.sleeper.driven = {true, true, false};

@@ -10,7 +10,9 @@
 //                           sleeper_mass (kg), continued_from (the packing whose bed got more
 //                           traffic, `mfdem pack --continue-from`; absent otherwise), model and
 //                           conversion_point (the fidelity policy that made its balls and when,
-//                           model_bed.hpp; absent for a bed as drawn)
+//                           model_bed.hpp; absent for a bed as drawn), with model_rolling_friction
+//                           and model_ball_friction (the balls' material as made; a push of the
+//                           packing takes them unless given other ones)
 //   /packing/stone_id       [bodies]  index of the stone's seeded draw (fidelity::StoneSampler)
 //   /packing/template       [bodies]  index of its template in the shape library
 //   /packing/size           [bodies]  sieve size d, m

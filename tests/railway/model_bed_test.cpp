@@ -7,6 +7,8 @@
 #include <cstring>
 #include <string>
 
+#include "fidelity/grading.hpp"
+#include "fidelity/shape_library.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/railway/bed_preparation.hpp"
 #include "studies/railway/model_bed.hpp"
@@ -178,7 +180,8 @@ TEST_CASE("a bad [fidelity] table is refused naming file, key and value", "[rail
 }
 
 TEST_CASE("a model whose balls are too wide for the periodic section is refused naming the key", "[railway][model][config]") {
-  const railway::PushStudyConfig c = railway::parse_push_config(tiny_clump_text(), "tiny.toml");  // 0.2 m section
+  railway::PushStudyConfig c = railway::parse_push_config(tiny_clump_text(), "tiny.toml");  // 0.2 m section
+  c.geometry.sleeper_width = 0.05;  // a 0.15 m crib: the section length decides
   fidelity::ConvertedBed bed;
   dem::ClumpSpec ball;
   ball.pebbles = {{dem::Vec3::Zero(), 0.045}};
@@ -189,6 +192,16 @@ TEST_CASE("a model whose balls are too wide for the periodic section is refused 
   CHECK_THROWS_WITH(railway::check_balls_fit(c, bed), Catch::Contains("tiny.toml") &&
                                                           Catch::Contains("section.section_length = 0.2") &&
                                                           Catch::Contains("0.2200 m"));
+  // The crib, 0.2 - 0.06 = 0.14 m with the tiny bed's own sleeper: a 0.15 m ball is wider.
+  c.geometry.sleeper_width = 0.06;
+  bed.bodies[0].pebbles[0].radius = 0.03;
+  CHECK_NOTHROW(railway::check_balls_fit(c, bed));
+  c.geometry.section_length = 0.5;
+  c.geometry.sleeper_width = 0.4;  // a 0.1 m crib
+  bed.bodies[0].pebbles[0].radius = 0.051;
+  CHECK_THROWS_WITH(railway::check_balls_fit(c, bed), Catch::Contains("section.sleeper_width = 0.4") &&
+                                                          Catch::Contains("crib of 0.1000 m") &&
+                                                          Catch::Contains("0.1020 m"));
 }
 
 TEST_CASE("a bed converted after its deposition is prepared as the model's own and says so", "[railway][model]") {
@@ -214,4 +227,30 @@ TEST_CASE("a bed converted after its deposition is prepared as the model's own a
   CHECK(m.report.policy == p.model);
   CHECK(m.report.conversion_point == "after deposition");
   CHECK(m.report.elements_before > m.report.elements);  // the same stones as clumps
+}
+
+TEST_CASE("the largest ball any policy can make fits standard and paper; on mini the balls of the upper size D",
+          "[railway][model][config]") {
+  // The equal-volume ball of the largest template at a size, against the periodic section
+  // (check_balls_fit) and the crib, the sleeper's gap to its periodic image. Standard and paper
+  // take the grading's largest size (EN 13450's 80 mm sieve passes everything); mini's 0.08 m
+  // crib takes every ball up to the upper size D = 63 mm (97 % passing) and beyond, to 77 mm.
+  const auto& library = fidelity::standard_library();
+  const auto ball_of_size = [&](double size) {
+    double radius = 0.0;
+    for (const auto& t : library.templates) radius = std::max(radius, t.equivalent_radius(size));
+    fidelity::ConvertedBed bed;
+    dem::ClumpSpec ball;
+    ball.pebbles = {{dem::Vec3::Zero(), radius}};
+    bed.bodies = {ball};
+    return bed;
+  };
+  const double largest = fidelity::SieveCurve::en13450_31_5_63().largest_mm() * 1e-3;
+  for (const char* preset : {"standard", "paper"}) {
+    CAPTURE(preset);
+    CHECK_NOTHROW(railway::check_balls_fit(railway::load_push_config(preset), ball_of_size(largest)));
+  }
+  const railway::PushStudyConfig mini = railway::load_push_config("mini");
+  CHECK_NOTHROW(railway::check_balls_fit(mini, ball_of_size(0.077)));
+  CHECK_THROWS_WITH(railway::check_balls_fit(mini, ball_of_size(largest)), Catch::Contains("section.sleeper_width"));
 }
