@@ -25,6 +25,8 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr int kUnstable = 3;  // as `mfdem run`
+constexpr const char* kReference = "all-clump";  // the policy that converts nothing
+constexpr double kRiseWarning = 2e-3;  // m: a re-settling that lifts the sleeper more is worth a warning
 
 // The model a command runs: replaces the config's [fidelity] policy, rolling_friction, ball_friction.
 struct ModelOptions {
@@ -100,13 +102,14 @@ void print_preparation(std::ostream& out, const railway::Packing& p, const railw
 std::optional<fs::path> pack(const PackOptions& o) {
   railway::PushStudyConfig config = railway::load_push_config(o.config);
   if (o.common.seed_given) config.seed = o.common.seed;
+  // A model other than all-clump (--fidelity or the config's [fidelity]) is made at the deposition:
+  // converted there, it is prepared as the model's own bed (studies/presets/README.md says why).
+  apply_model_options(o.model, config);
   std::optional<fidelity::Policy> model;
-  if (o.model.fidelity) {
-    apply_model_options(o.model, config);
+  if (config.fidelity.policy != kReference)
     model = checked_policy(o.model, config, {config.geometry.sleeper_base()},
                            fmt::format("the design sleeper base lies {:.4f} m above the floor",
                                        config.geometry.sleeper_base()));
-  }
   fs::create_directories(o.common.out);
   railway::PreparationControl control;
   control.quiet = o.common.quiet;
@@ -114,7 +117,7 @@ std::optional<fs::path> pack(const PackOptions& o) {
   control.checkpoint = o.common.out / "checkpoint.h5";
   control.resume = o.resume;
   control.stop_after = o.stop_after;
-  control.convert_after_deposit = model;
+  if (o.continue_from.empty()) control.convert_after_deposit = model;  // a finished bed is not converted again
   if (!o.deposit_from.empty()) {
     const fs::path from = o.deposit_from;
     control.deposit_from = fs::is_directory(from) ? from / "checkpoint.h5" : from;
@@ -158,6 +161,8 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   const railway::Packing packing = railway::load_packing(packing_path);
   railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
   apply_model_options(o.model, config);
+  // A model's own bed (made by `mfdem pack` with a policy) is pushed as it is, unless asked.
+  if (!packing.model.empty() && !o.model.fidelity) config.fidelity.policy = kReference;
   const fidelity::Policy policy = checked_policy(
       o.model, config, railway::bed_frame(packing).scale(),
       fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor", packing_path.string(),
@@ -180,6 +185,13 @@ int push(const PushOptions& o, const fs::path& packing_path) {
     }
   }();
   if (model.report.resettling) {
+    const double rise = -(*model.report.resettling->sleeper_base - *model.report.resettling->sleeper_base_start);
+    if (rise > kRiseWarning)
+      fmt::print(std::cerr,
+                 "mfdem: warning: growing the balls in the finished packing lifted the sleeper by {:.1f} mm (the "
+                 "bed dilated around them); a model prepared from the deposition ('mfdem pack CONFIG --fidelity "
+                 "{}', sharing it with --deposit-from) sits as the reference does (studies/presets/README.md)\n",
+                 rise * 1e3, config.fidelity.policy);
     railway::Packing saved = model.packing;
     saved.config = config;
     railway::save_finished_packing(o.common.out / "model_packing.h5", saved, {*model.report.resettling});
@@ -337,8 +349,11 @@ void add_push_commands(CLI::App& app, Action& action) {
         // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
         // pack` refuses to overwrite a checkpoint instead.
         fs::remove(p.common.out / "checkpoint.h5");
+        p.model = one_shot->model;  // a model is made at the deposition
+        PushOptions as_packed = *one_shot;
+        as_packed.model.fidelity.reset();
         // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.
-        return push(*one_shot, *pack(p));
+        return push(as_packed, *pack(p));
       });
     };
   });

@@ -258,12 +258,9 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     bed = deposit(c, control.quiet, report, control.stage_directory);
     if (done("deposit", names.front())) return std::nullopt;
   }
-  if (control.convert_after_deposit) {
-    if (bed.trimmed)
-      throw std::invalid_argument("a model is made after the deposition: this bed is past it (--resume or "
-                                  "--continue-from); start from the deposition (--deposit-from)");
+  // A bed past its trimming (resumed from a later checkpoint) was converted before it was saved.
+  if (control.convert_after_deposit && !bed.trimmed)
     convert_deposited(c, *control.convert_after_deposit, control.quiet, bed, report);
-  }
   if (!bed.trimmed) {
     trim(c, bed, report);
     if (!control.quiet && next == 0)

@@ -97,3 +97,22 @@ TEST_CASE("push --fidelity converts, re-settles and pushes, and records the mode
   CHECK_FALSE(mfdem::dem::h5::read_text_attribute(file, "revision").empty());
   H5Fclose(file);
 }
+
+TEST_CASE("push-test --fidelity prepares the model from the deposition and pushes it without converting again",
+          "[railway][cli][model]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.path() / "tiny.toml";
+  std::ofstream(config) << tiny_clumps();
+  const std::string out = (dir.path() / "model").string();
+  const auto run = run_mfdem({"push-test", config.string(), "--fidelity", "layer-by-height:h_fraction=0.5",
+                              "--rolling-friction", "0.2", "--distance", "0.2", "--out", out, "-q", "--threads", "1"});
+  REQUIRE(run.status == 0);
+  CHECK_THAT(run.out, Catch::Contains("convert"));  // the stage in the packing's table
+  const auto summary = toml::parse_file(out + "/push_summary.toml");
+  CHECK(summary["model"]["policy"].value_or(std::string()) == "layer-by-height:h=0.04,h_fraction=0.5");
+  CHECK(summary["model"]["conversion_point"].value_or(std::string()) == "after deposition");
+  CHECK(summary["model"]["converted"].value_or(-1.0) == 0.0);  // nothing converted at the push
+  CHECK(summary["model"]["balls"].value_or(0.0) > 0.0);
+  CHECK(summary["model"]["rolling_friction"].value_or(0.0) == 0.2);  // kept by the packing
+  CHECK_FALSE(std::filesystem::exists(out + "/resettle.h5"));
+}
