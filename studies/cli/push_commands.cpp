@@ -185,7 +185,7 @@ int push(const PushOptions& o, const fs::path& packing_path) {
     }
   }();
   if (model.report.resettling) {
-    const double rise = -(*model.report.resettling->sleeper_base - *model.report.resettling->sleeper_base_start);
+    const double rise = *model.report.resettling->sleeper_base - *model.report.resettling->sleeper_base_start;
     if (rise > kRiseWarning)
       fmt::print(std::cerr,
                  "mfdem: warning: growing the balls in the finished packing lifted the sleeper by {:.1f} mm (the "

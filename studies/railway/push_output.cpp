@@ -50,7 +50,7 @@ std::vector<std::pair<std::string, double>> model_numbers(const ModelReport& m) 
     v.push_back({"resettle_force_ratio", m.resettling->unbalanced_force_ratio});
     v.push_back({"resettle_settled", m.resettling->settled ? 1.0 : 0.0});
     if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
-      v.push_back({"resettle_sleeper_drop", *m.resettling->sleeper_base_start - *m.resettling->sleeper_base});
+      v.push_back({"resettle_sleeper_rise", *m.resettling->sleeper_base - *m.resettling->sleeper_base_start});
   }
   return v;
 }
@@ -177,8 +177,8 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
     row("  re-settled to force ratio", fmt::format("{:.2e}{}", m.resettling->unbalanced_force_ratio,
                                                    m.resettling->settled ? "" : " (time limit)"));
     if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
-      row("  sleeper sank while re-settling (mm)",
-          fmt::format("{:.3f}", (*m.resettling->sleeper_base_start - *m.resettling->sleeper_base) * 1e3));
+      row("  sleeper rose while re-settling (mm)",
+          fmt::format("{:+.3f}", (*m.resettling->sleeper_base - *m.resettling->sleeper_base_start) * 1e3));
   }
   row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));
   row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));

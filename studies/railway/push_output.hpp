@@ -9,7 +9,7 @@
 //                   clumps, balls, converted, elements, elements_before, element_ratio,
 //                   springs_dropped, and after a re-settling resettle_wall_seconds,
 //                   resettle_simulated_time, resettle_force_ratio, resettle_settled (1/0),
-//                   resettle_sleeper_drop (m) (model_bed.hpp)
+//                   resettle_sleeper_rise (m) (model_bed.hpp)
 //                 /curve/{u, force, heave, time}                F(u) samples (m, N, m, s)
 //                 /network/{u, mean_stress, inertial_number, coordination}
 //                 /end_state/contact_body_a, contact_body_b    [contacts] stone indices

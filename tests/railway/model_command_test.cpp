@@ -83,6 +83,10 @@ TEST_CASE("push --fidelity converts, re-settles and pushes, and records the mode
   CHECK(summary["model"]["conversion_point"].value_or(std::string()) == "after preparation, re-settled");
   CHECK(summary["config_hash"].value_or(std::string()).size() == 16);
   CHECK(std::filesystem::exists(model + "/model_packing.h5"));
+  // Growing balls in a finished packing dilates it: the sleeper rises, and a rise beyond 2 mm is
+  // pointed out with the better way.
+  const double rise = summary["model"]["resettle_sleeper_rise"].value_or(0.0);
+  CHECK((rise > 2e-3) == (push.err.find("lifted the sleeper") != std::string::npos));
   CHECK(std::filesystem::exists(model + "/resettle.h5"));
 
   const hid_t file = H5Fopen((model + "/push.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
