@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include "dem/neighbor_list.hpp"
 #include "dem/state_file.hpp"
@@ -89,16 +90,20 @@ GrownBed grow_balls(const PushStudyConfig& c, const dem::Domain& domain, const f
     for (std::size_t k = 0; k < growing.size(); ++k)
       s.set_element_radius(growing[k].first, from[k] + share * (growing[k].second - from[k]));
   };
+  // The converted bed as the growth starts, kept for a look if the growth turns unstable.
+  std::optional<dem::StateFile> record;
+  if (!last_good.empty()) {
+    record.emplace(last_good, sim, fmt::format("growth of the converted balls of {}", c.name));
+    record->write_frame(sim);
+  }
   try {
     out.report = run_until_settled(sim, "grow", c.preparation.equilibrium_ratio, 1.0, duration, true,
                                    RestCriterion::kFixedTime, nullptr, 0.02, 2e-3, drive);
   } catch (const dem::StabilityError&) {
-    if (!last_good.empty() && sim.last_good_state()) {
-      dem::StateFile file(last_good, sim, fmt::format("growth of the converted balls of {}: last good state", c.name));
-      file.write_snapshot(sim, *sim.last_good_state(), "last good state");
-    }
+    if (record && sim.last_good_state()) record->write_snapshot(sim, *sim.last_good_state(), "last good state");
     throw;
   }
+  record.reset();
   out.bodies = body_states(sim);
   // Exactly their own radii (the last step may fall short of growth_time by round-off).
   for (std::size_t b = 0; b < out.bodies.size(); ++b) out.bodies[b].pebbles = converted.bodies[b].pebbles;

@@ -34,8 +34,8 @@ void check_balls_fit(const PushStudyConfig& config, const fidelity::ConvertedBed
 
 // Grows the reshaped balls of `converted` in the section `domain` with the boundaries, friction
 // and damping of `setup` (growth_friction, when set, replaces the friction and takes away the
-// balls' rolling resistance). Throws dem::StabilityError; with `last_good`, an unstable growth
-// leaves its last good state there.
+// balls' rolling resistance). Throws dem::StabilityError; with `last_good`, the converted bed is
+// written there as the growth starts and an unstable growth adds its last good state.
 GrownBed grow_balls(const PushStudyConfig& config, const dem::Domain& domain, const fidelity::ConvertedBed& converted,
                     StageSetup setup, const std::filesystem::path& last_good = {});
 

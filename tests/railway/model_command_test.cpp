@@ -66,6 +66,17 @@ TEST_CASE("push --fidelity converts, re-settles and pushes, and records the mode
   CHECK(above.status == 2);
   CHECK_THAT(above.err, Catch::Contains("--fidelity") && Catch::Contains("sleeper base") && Catch::Contains(bed));
 
+  // Balls grown to size in a microsecond overlap their neighbours by half their radius at once:
+  // the run stops as unstable (exit 3) and keeps the converted bed's last good state.
+  const auto fast = dir.path() / "fast_growth.toml";
+  std::ofstream(fast) << tiny_clumps() << "[fidelity]\ngrowth_time = 1e-6\n";
+  const auto unstable = run_mfdem({"push", bed, "--config", fast.string(), "--fidelity", "all-ball", "--out",
+                                   bed + "/unstable", "-q", "--threads", "1"});
+  CHECK(unstable.status == 3);
+  CHECK_THAT(unstable.err, Catch::Contains("unstable") && Catch::Contains("resettle.h5"));
+  CHECK(std::filesystem::exists(bed + "/unstable/resettle.h5"));
+  CHECK_FALSE(std::filesystem::exists(bed + "/unstable/push.h5"));
+
   const std::string model = bed + "/layer";
   const auto push = run_mfdem({"push", bed, "--fidelity", "layer-by-height:h_fraction=0.5", "--rolling-friction",
                                "0.25", "--distance", "0.3", "--out", model, "-q", "--threads", "1"});
