@@ -199,6 +199,9 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   run.state_file = o.common.out / "push_state.h5";
   railway::PushResult result = railway::run_push(model.packing, config, run);
   result.model = model.report;
+  // A model made at the deposition: its preparation from the conversion on stands for the re-settling.
+  if (!result.model.resettling && !packing.model.empty())
+    result.model.resettling = railway::model_preparation(railway::read_stage_reports(packing_path));
   result.revision = git_revision();
   railway::write_push_file(o.common.out / "push.h5", result);
   railway::write_push_summary(o.common.out / "push_summary.toml", result, packing);
@@ -212,7 +215,7 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   fs::create_directories(half_dir);
   slow.state_file = half_dir / "push_state.h5";
   railway::PushResult half = railway::run_push(model.packing, config, slow);
-  half.model = model.report;
+  half.model = result.model;
   half.revision = result.revision;
   railway::write_push_file(half_dir / "push.h5", half);
   railway::write_push_summary(half_dir / "push_summary.toml", half, packing);

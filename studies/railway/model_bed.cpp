@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "dem/state_file.hpp"
@@ -66,6 +67,23 @@ void add_growth(ModelReport& r, const GrownBed& grown) {
   r.reshaped = grown.reshaped;
   r.smallest_start_fraction = grown.smallest_start_fraction;
   r.mean_start_fraction = grown.mean_start_fraction;
+}
+
+std::optional<StageReport> model_preparation(const std::vector<StageReport>& stages) {
+  const auto convert = std::find_if(stages.begin(), stages.end(), [](const StageReport& s) { return s.name == "convert"; });
+  if (convert == stages.end()) return std::nullopt;
+  StageReport sum;
+  sum.name = "convert and later stages";
+  for (auto s = convert; s != stages.end(); ++s) {
+    sum.simulated_time += s->simulated_time;
+    sum.steps += s->steps;
+    sum.wall_seconds += s->wall_seconds;
+    sum.unbalanced_force_ratio = s->unbalanced_force_ratio;
+    sum.settled = s->settled;
+    if (s->sleeper_base) sum.sleeper_base = s->sleeper_base;
+    if (s->sleeper_base_start && !sum.sleeper_base_start) sum.sleeper_base_start = s->sleeper_base_start;
+  }
+  return sum;
 }
 
 ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidelity::Policy& policy,

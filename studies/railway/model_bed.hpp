@@ -50,6 +50,11 @@ ModelReport converted_report(const PushStudyConfig& config, const fidelity::Poli
                              const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones);
 void add_growth(ModelReport& report, const GrownBed& grown);
 
+// For a model made at the deposition: its conversion and every stage after it summed (time,
+// steps, wall time), with the last stage's force ratio and sleeper base: what a re-settling
+// reports for the other point. None when the stages hold no "convert".
+std::optional<StageReport> model_preparation(const std::vector<StageReport>& stages);
+
 struct ModelBed {
   Packing packing;
   ModelReport report;

@@ -173,11 +173,11 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
     row("  elements / as prepared", fmt::format("{} / {} ({:.2f})", m.elements, m.elements_before, m.element_ratio()));
   }
   if (m.resettling) {
-    row("  re-settled, wall time", scene::format_duration(m.resettling->wall_seconds));
-    row("  re-settled to force ratio", fmt::format("{:.2e}{}", m.resettling->unbalanced_force_ratio,
+    row("  conversion + settling, wall time", scene::format_duration(m.resettling->wall_seconds));
+    row("  settled to force ratio", fmt::format("{:.2e}{}", m.resettling->unbalanced_force_ratio,
                                                    m.resettling->settled ? "" : " (time limit)"));
     if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
-      row("  sleeper rose while re-settling (mm)",
+      row("  sleeper rose while settling (mm)",
           fmt::format("{:+.3f}", (*m.resettling->sleeper_base - *m.resettling->sleeper_base_start) * 1e3));
   }
   row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));

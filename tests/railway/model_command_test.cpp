@@ -130,4 +130,7 @@ TEST_CASE("push-test --fidelity prepares the model from the deposition and pushe
   CHECK(summary["model"]["balls"].value_or(0.0) > 0.0);
   CHECK(summary["model"]["rolling_friction"].value_or(0.0) == 0.2);  // kept by the packing
   CHECK_FALSE(std::filesystem::exists(out + "/resettle.h5"));
+  // Its preparation from the conversion on (the convert and settle stages) stands for the re-settling.
+  CHECK(summary["model"]["resettle_wall_seconds"].value_or(0.0) > 0.0);
+  CHECK(summary["model"]["resettle_simulated_time"].value_or(0.0) > 0.1);
 }
