@@ -262,7 +262,7 @@ Packing load_packing(const std::filesystem::path& path) {
     p.sleeper.mass = read_attribute(g, "sleeper_mass");
     p.continued_from = dem::h5::read_text_attribute(g, "continued_from");
     p.model = dem::h5::read_text_attribute(g, "model");
-    if (!p.model.empty()) {
+    if (H5Aexists(g, "model_rolling_friction") > 0) {  // packings of a model made before them lack them
       p.config.fidelity.rolling_friction = read_attribute(g, "model_rolling_friction");
       p.config.fidelity.ball_friction = read_attribute(g, "model_ball_friction");
     }
