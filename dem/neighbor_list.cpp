@@ -50,11 +50,11 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     // i (two images lie a length apart, both within reach only if it is below 2 x reach), so a
     // scan that meets a cell twice through two images keeps at most one. A ball of equal volume
     // is wider than any pebble of its clump: three reaches did not fit mini's 0.2 m section.
-    if (domain.periodic[a] && length[a] < kPeriodicReaches * cutoff)
+    if (domain.periodic[a] && length[a] < shortest_periodic_length(largest, skin))
       throw std::invalid_argument(
           "periodic box length along axis " + std::string(1, "xyz"[a]) + " (" +
           std::to_string(length[a]) + " m) must be at least 2 x (largest diameter + skin) = " +
-          std::to_string(kPeriodicReaches * cutoff) + " m");
+          std::to_string(shortest_periodic_length(largest, skin)) + " m");
   }
   // A sparse scene in a large box (a few bodies in a tall domain) gets larger cells: at most
   // about eight cells per element, and never fewer than a million allowed.

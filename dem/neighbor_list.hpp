@@ -35,6 +35,10 @@ inline Vec3 image_shift(const Image& image, const Vec3& box_length) {
 // A periodic length must hold this many largest contact reaches (2 x largest radius + skin): then
 // at most one image of an element is within reach of another.
 inline constexpr double kPeriodicReaches = 2.0;
+// The shortest periodic length the search accepts for elements up to `largest_radius`, m.
+inline double shortest_periodic_length(double largest_radius, double skin) {
+  return kPeriodicReaches * (2.0 * largest_radius + skin);
+}
 
 // Cell-list search; deterministic: the result does not depend on the number of threads.
 PairList build_pair_list(const Elements& elements, const Domain& domain, double skin);

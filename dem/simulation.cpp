@@ -139,7 +139,7 @@ void Simulation::prepare() {
     min_radius = std::min(min_radius, r);
     largest_radius_ = std::max(largest_radius_, r);
   }
-  base_skin_ = settings_.skin > 0.0 ? settings_.skin : 0.2 * (std::isfinite(min_radius) ? min_radius : 0.01);
+  base_skin_ = settings_.skin > 0.0 ? settings_.skin : kBaseSkinPerSmallestRadius * (std::isfinite(min_radius) ? min_radius : 0.01);
   skin_ = base_skin_;
   check_boxes_clear_periodic_faces();
 

@@ -33,12 +33,15 @@
 
 namespace mfdem::dem {
 
+// The automatic skin of the neighbour list: this fraction of the smallest element radius.
+inline constexpr double kBaseSkinPerSmallestRadius = 0.2;
+
 struct SimulationSettings {
   double time_step = 0.0;          // s; 0 selects the automatic step
   double time_step_safety = 0.2;   // automatic step = safety x critical step
   bool force_time_step = false;    // accept a given step above the critical one
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  // m/s^2
-  double skin = 0.0;               // m; 0: automatic, 0.2 x the smallest radius, more while bodies fly
+  double skin = 0.0;               // m; 0: automatic, kBaseSkinPerSmallestRadius x the smallest radius, more while bodies fly
   GuardSettings guards;
 };
 
@@ -126,9 +129,9 @@ class Simulation {
   void prepare();
   // Changes the radius of element e from the next step on (after prepare()): a ball grown into
   // place. It takes effect after that step's drift, before its forces. Growth counts against
-  // the neighbour list's skin as movement does, so no contact is missed;
-  // the elastic energy it adds to the element's contacts counts as work put in (EnergyReport::
-  // work_by_walls); the time step is not re-derived (give the step of the largest radii).
+  // the neighbour list's skin as movement does, so no contact is missed; the elastic energy it
+  // adds to the element's contacts counts as work put in (EnergyReport::work_by_walls); the time
+  // step is not re-derived (give the step of the largest radii).
   void set_element_radius(Index e, double radius);
   // Advances one step; throws StabilityError when a guard trips (the last good state is kept,
   // see last_good_state()).
@@ -203,6 +206,17 @@ class Simulation {
   Index add_body(const ClumpSpec& body);
   [[gnu::always_inline]] inline void kick(Index b, const Vec3& force, const Vec3& torque, double h);
   Snapshot snapshot() const;
+  // Calls f(p) for every pair p of the neighbour list that element e belongs to.
+  template <class F>
+  void for_each_pair_of(Index e, F&& f) const {
+    for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) f(p);
+    for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) f(pairs_.as_second_pair[k]);
+  }
+  // (r_i + r_j)^2 of pair p at the present radii: what overlapping() tests against.
+  double reach2_of(Index p) const {
+    const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
+    return reach * reach;
+  }
   // Elastic energy of one active contact (energy()), and of all contacts of element e.
   double pair_elastic_energy(Index p) const;
   double wall_elastic_energy(Index e, std::size_t w) const;
@@ -296,12 +310,17 @@ class Simulation {
   }
   bool any_periodic_ = false;
   // x moved to its periodic image nearest the box centre, so that a box sees the elements across
-  // a periodic face; x itself, to the bit, when no image is nearer.
+  // a periodic face; x itself, to the bit, when no image is nearer. It runs for every element and
+  // box at every step: a comparison per periodic axis, the division only past half a length.
   [[gnu::always_inline]] inline Vec3 box_image(const Vec3& x, const RigidBox& box) const {
     if (!any_periodic_) return x;
-    const Vec3 d = x - box.centre;
-    const Vec3 shift = domain_.nearest_image(d) - d;
-    return shift.isZero() ? x : Vec3(x + shift);
+    Vec3 image = x;
+    for (int a = 0; a < 3; ++a) {
+      if (!domain_.periodic[a]) continue;
+      const double d = x[a] - box.centre[a], length = domain_.max[a] - domain_.min[a];
+      if (std::abs(d) > 0.5 * length) image[a] -= length * std::round(d / length);
+    }
+    return image;
   }
   std::vector<std::vector<Index>> pair_work_;  // per thread: the pairs phase B visits
   std::vector<ContactHistory> wall_history_;  // [element * walls + wall]

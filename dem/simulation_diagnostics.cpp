@@ -48,10 +48,9 @@ double Simulation::box_elastic_energy(Index e, std::size_t k) const {
 
 double Simulation::element_elastic_energy(Index e) const {
   double energy = 0.0;
-  for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p)
+  for_each_pair_of(e, [&](Index p) {
     if (pair_active_[p]) energy += pair_elastic_energy(p);
-  for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k)
-    if (pair_active_[pairs_.as_second_pair[k]]) energy += pair_elastic_energy(pairs_.as_second_pair[k]);
+  });
   for (std::size_t w = 0; w < walls_.size(); ++w) energy += wall_elastic_energy(e, w);
   for (std::size_t k = 0; k < boxes_.size(); ++k) energy += box_elastic_energy(e, k);
   return energy;

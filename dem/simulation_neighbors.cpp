@@ -61,8 +61,7 @@ void Simulation::apply_pending_radii() {
       const double rest = elements_.radius[other];
       add(kn, distance - old_radius - rest, distance - radius - rest, n, bodies_.velocity[elements_.body[other]]);
     };
-    for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) pair(p);
-    for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) pair(pairs_.as_second_pair[k]);
+    for_each_pair_of(e, pair);
     for (const auto& wall : walls_) {
       const double gap = (elements_.position[e] - wall.point).dot(wall.normal);
       add(materials_.pair(wall.material, elements_.material[e]).normal_stiffness, gap - old_radius, gap - radius,
@@ -79,12 +78,7 @@ void Simulation::apply_pending_radii() {
     elements_.radius[e] = radius;
     radius_growth_ = std::max(radius_growth_, radius - build_radius_[e]);
     largest_radius_ = std::max(largest_radius_, radius);
-    const auto reach2 = [&](Index p) {
-      const double reach = elements_.radius[pairs_.first[p]] + elements_.radius[pairs_.second[p]];
-      pair_reach2_[p] = reach * reach;
-    };
-    for (Index p = pairs_.row_start[e]; p < pairs_.row_start[e + 1]; ++p) reach2(p);
-    for (Index k = pairs_.as_second_start[e]; k < pairs_.as_second_start[e + 1]; ++k) reach2(pairs_.as_second_pair[k]);
+    for_each_pair_of(e, [&](Index p) { pair_reach2_[p] = reach2_of(p); });
     work_by_walls_ += element_elastic_energy(e) - before + drift_work;
   }
   pending_radius_.clear();
@@ -140,8 +134,7 @@ void Simulation::rebuild() {
 #pragma omp parallel for schedule(static) if (n > kChunkSize)
   for (Index p = 0; p < n; ++p) {
     const Index i = pairs_.first[p], j = pairs_.second[p];
-    const double reach = elements_.radius[i] + elements_.radius[j];
-    pair_reach2_[p] = reach * reach;
+    pair_reach2_[p] = reach2_of(p);
     const double mi = bodies_.mass[elements_.body[i]], mj = bodies_.mass[elements_.body[j]];
     const PairParameters& pp = materials_.pair(elements_.material[i], elements_.material[j]);
     pair_dashpot_[p] = damping_coefficient(pp.damping_ratio, mi * mj / (mi + mj), pp.normal_stiffness);

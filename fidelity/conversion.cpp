@@ -1,15 +1,15 @@
 #include "fidelity/conversion.hpp"
 
 #include <algorithm>
-
-#include "dem/neighbor_list.hpp"
 #include <cmath>
 #include <limits>
+#include <numbers>
+
+#include "dem/neighbor_list.hpp"
 
 namespace mfdem::fidelity {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSolidSphereInertia = 0.4;  // I = 2/5 m r^2
 
 // Distance from x to the nearest point of the box (0 inside), m.
@@ -41,7 +41,7 @@ dem::ClumpSpec ball_of(const dem::ClumpSpec& clump, double density, int material
   dem::ClumpSpec ball = clump;
   ball.material = material;
   if (is_centred_sphere(clump)) return ball;
-  const double radius = std::cbrt(3.0 * clump.mass / (4.0 * kPi * density));
+  const double radius = std::cbrt(3.0 * clump.mass / (4.0 * std::numbers::pi * density));
   ball.pebbles = {dem::Pebble{dem::Vec3::Zero(), radius}};
   ball.principal_inertia = dem::Vec3::Constant(kSolidSphereInertia * clump.mass * radius * radius);
   return ball;
@@ -51,17 +51,15 @@ ConvertedBed convert_bed(const std::vector<dem::ClumpSpec>& bodies, const std::v
                          const Policy& policy, const BedFrame& frame, double density, int ball_material) {
   ConvertedBed out;
   out.bodies.reserve(bodies.size());
-  // Old and new first element of every body, and which bodies changed.
+  // Old and new first element of every body.
   std::vector<std::int64_t> old_first(bodies.size() + 1, 0), new_first(bodies.size() + 1, 0);
-  std::vector<std::uint8_t> changed(bodies.size(), 0);
   std::vector<std::int64_t> body_of_element;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const dem::ClumpSpec& stone = bodies[b];
     const bool already_ball = stone.material == ball_material;
     const bool to_ball = !already_ball && policy.choose(measure_stone(stone, frame)) == Representation::ball;
     out.bodies.push_back(to_ball ? ball_of(stone, density, ball_material) : stone);
-    changed[b] = to_ball && !is_centred_sphere(stone);  // a centred one-pebble clump keeps its geometry
-    out.reshaped.push_back(changed[b]);
+    out.reshaped.push_back(to_ball && !is_centred_sphere(stone));  // a centred one-pebble clump keeps its geometry
     out.converted += to_ball;
     (already_ball || to_ball ? out.balls : out.clumps) += 1;
     old_first[b + 1] = old_first[b] + static_cast<std::int64_t>(stone.pebbles.size());
@@ -73,7 +71,7 @@ ConvertedBed convert_bed(const std::vector<dem::ClumpSpec>& bodies, const std::v
   const auto renumber = [&](dem::Index element, dem::Index& to) {
     if (element < 0 || element >= old_first.back()) return false;
     const std::int64_t b = body_of_element[element];
-    if (changed[b]) return false;
+    if (out.reshaped[b]) return false;
     to = static_cast<dem::Index>(new_first[b] + (element - old_first[b]));
     return true;
   };
@@ -86,10 +84,6 @@ ConvertedBed convert_bed(const std::vector<dem::ClumpSpec>& bodies, const std::v
   }
   return out;
 }
-
-}  // namespace mfdem::fidelity
-
-namespace mfdem::fidelity {
 
 std::vector<double> fitting_radii(const ConvertedBed& bed, const dem::Domain& domain,
                                   const std::vector<dem::PlaneWall>& walls, const std::vector<dem::RigidBox>& boxes,

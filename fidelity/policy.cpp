@@ -12,9 +12,11 @@ namespace {
 
 std::string number_text(double v) { return fmt::format("{:g}", v); }
 
-std::string parameter_list(const std::vector<PolicyParameter>& parameters) {
-  std::string out;
-  for (const auto& p : parameters) out += (out.empty() ? "" : ",") + p.name + "=" + number_text(p.value);
+// NAME or NAME:key=value,key=value: how a policy is written and described.
+std::string spec_text(const std::string& name, const std::vector<PolicyParameter>& parameters) {
+  std::string out = name;
+  for (std::size_t k = 0; k < parameters.size(); ++k)
+    out += (k == 0 ? ":" : ",") + parameters[k].name + "=" + number_text(parameters[k].value);
   return out;
 }
 
@@ -92,15 +94,13 @@ PolicyRegistry make_builtin() {
 
 }  // namespace
 
-std::string_view to_string(Representation r) { return r == Representation::clump ? "clump" : "ball"; }
-
 Representation representation_named(std::string_view name) {
   if (name == "clump") return Representation::clump;
   if (name == "ball") return Representation::ball;
   throw std::invalid_argument(fmt::format("representation '{}': expected clump or ball", name));
 }
 
-std::string Policy::describe() const { return parameters.empty() ? name : name + ":" + parameter_list(parameters); }
+std::string Policy::describe() const { return spec_text(name, parameters); }
 
 double Policy::parameter(std::string_view wanted) const {
   for (const auto& p : parameters)
@@ -108,7 +108,7 @@ double Policy::parameter(std::string_view wanted) const {
   throw std::out_of_range(fmt::format("policy '{}' has no parameter '{}'", name, wanted));
 }
 
-std::string PolicySpec::text() const { return parameters.empty() ? name : name + ":" + parameter_list(parameters); }
+std::string PolicySpec::text() const { return spec_text(name, parameters); }
 
 PolicySpec parse_policy_spec(std::string_view text) {
   PolicySpec spec;
@@ -166,12 +166,6 @@ Policy PolicyRegistry::make(const PolicySpec& spec, const BedScale& scale) const
                                     : fmt::format("policy '{}' has no parameter '{}'; expected {}", spec.name, p.name,
                                                   fmt::join(kind->parameters, " or ")));
   return kind->make(spec, scale);
-}
-
-std::vector<std::string> PolicyRegistry::names() const {
-  std::vector<std::string> out;
-  for (const auto& k : kinds_) out.push_back(k.name);
-  return out;
 }
 
 std::string PolicyRegistry::listing() const {

@@ -25,7 +25,6 @@ namespace mfdem::fidelity {
 
 // The one type for the choice of fidelity of a stone.
 enum class Representation { clump, ball };
-std::string_view to_string(Representation r);
 // "clump" or "ball" (a config's choice, already checked) as the type.
 Representation representation_named(std::string_view name);
 
@@ -97,7 +96,6 @@ class PolicyRegistry {
   // Throws PolicyError for an unknown name or parameter, a missing or bad value.
   Policy make(const PolicySpec& spec, const BedScale& scale) const;
   Policy make(std::string_view text, const BedScale& scale) const { return make(parse_policy_spec(text), scale); }
-  std::vector<std::string> names() const;
   // "all-clump, all-ball, layer-by-height (h or h_fraction), zone-by-distance (d)".
   std::string listing() const;
 

@@ -163,10 +163,11 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   apply_model_options(o.model, config);
   // A model's own bed (made by `mfdem pack` with a policy) is pushed as it is, unless asked.
   if (!packing.model.empty() && !o.model.fidelity) config.fidelity.policy = kReference;
+  const fidelity::BedScale scale = railway::bed_frame(packing).scale();
   const fidelity::Policy policy = checked_policy(
-      o.model, config, railway::bed_frame(packing).scale(),
+      o.model, config, scale,
       fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor", packing_path.string(),
-                  railway::bed_frame(packing).scale().sleeper_base));
+                  scale.sleeper_base));
   railway::PushRun run;
   run.velocity = o.velocity_mm_s ? *o.velocity_mm_s * 1e-3 : config.push.velocity;
   run.distance = o.distance_mm ? *o.distance_mm * 1e-3 : config.push.distance;
@@ -344,15 +345,10 @@ void add_push_commands(CLI::App& app, Action& action) {
         PackOptions p;
         p.common = one_shot->common;
         p.config = one_shot->packing;
-        // A bad model is refused before the packing, against the design depth to the sleeper.
-        railway::PushStudyConfig design = railway::load_push_config(p.config);
-        apply_model_options(one_shot->model, design);
-        checked_policy(one_shot->model, design, {design.geometry.sleeper_base()},
-                       fmt::format("the design sleeper base lies {:.4f} m above the floor", design.geometry.sleeper_base()));
         // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
         // pack` refuses to overwrite a checkpoint instead.
         fs::remove(p.common.out / "checkpoint.h5");
-        p.model = one_shot->model;  // a model is made at the deposition
+        p.model = one_shot->model;  // a model is made at the deposition (pack checks it before any work)
         PushOptions as_packed = *one_shot;
         as_packed.model.fidelity.reset();
         // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.

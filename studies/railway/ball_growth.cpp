@@ -18,9 +18,6 @@ namespace {
 // centre low; growing from less would take long and gain nothing).
 constexpr double kSmallestStartFraction = 0.5;
 
-// The solver's base skin: 0.2 x the smallest radius (dem/simulation.cpp).
-constexpr double kSkinPerSmallestRadius = 0.2;
-
 }  // namespace
 
 void check_balls_fit(const PushStudyConfig& c, const fidelity::ConvertedBed& converted) {
@@ -28,7 +25,8 @@ void check_balls_fit(const PushStudyConfig& c, const fidelity::ConvertedBed& con
   double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
   for (const auto& b : converted.bodies)
     for (const auto& p : b.pebbles) largest = std::max(largest, p.radius), smallest = std::min(smallest, p.radius);
-  const double needed = dem::kPeriodicReaches * (2.0 * largest + kSkinPerSmallestRadius * smallest);
+  // The neighbour search's own rule at the solver's automatic (smallest) skin.
+  const double needed = dem::shortest_periodic_length(largest, dem::kBaseSkinPerSmallestRadius * smallest);
   // The crib is the sleeper's gap to its periodic image: no element may be wider
   // (dem::Simulation::check_boxes_clear_periodic_faces).
   const double crib = c.geometry.section_length - c.geometry.sleeper_width;

@@ -97,9 +97,7 @@ void convert_deposited(const PushStudyConfig& c, const fidelity::Policy& policy,
   const fidelity::BedFrame frame{0.0, sleeper_box(c.geometry), bed.domain};
   const fidelity::ConvertedBed converted = fidelity::convert_bed(bed.stones, {}, policy, frame, c.ballast.density, kBall);
   check_balls_fit(c, converted);
-  StageSetup setup = deposition_setup(c);
-  setup.ball_friction = c.preparation.deposition_friction;
-  const GrownBed grown = grow_balls(c, bed.domain, converted, setup);
+  const GrownBed grown = grow_balls(c, bed.domain, converted, deposition_setup(c));
   bed.stones = grown.bodies;
   StageReport stage = grown.report;
   stage.name = "convert";

@@ -8,19 +8,33 @@
 #include "dem/state_file.hpp"
 #include "fidelity/shape_library.hpp"
 #include "studies/railway/ball_growth.hpp"
+#include "studies/railway/preparation_stage.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/scene/progress.hpp"
 
 namespace mfdem::railway {
 namespace {
 
-constexpr double kGravity = 9.81;  // m/s^2, the solver's default
+double mean_size(const std::vector<StoneRecord>& stones) {
+  double sum = 0.0;
+  for (const auto& s : stones) sum += s.size;
+  return sum / static_cast<double>(std::max<std::size_t>(1, stones.size()));
+}
 
-double lifting_energy(const std::vector<dem::ClumpSpec>& stones, const std::vector<StoneRecord>& records) {
-  double mass = 0.0, size = 0.0;
-  for (const auto& s : stones) mass += s.mass;
-  for (const auto& r : records) size += r.size;
-  return mass * kGravity * size / static_cast<double>(std::max<std::size_t>(1, records.size()));
+// The record of a conversion, before any growth or re-settling.
+ModelReport converted_report(const PushStudyConfig& c, const fidelity::Policy& policy,
+                             const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones) {
+  ModelReport r;
+  r.policy = policy.describe();
+  r.rolling_friction = c.fidelity.rolling_friction;
+  r.ball_friction = c.fidelity.ball_friction.value_or(c.ballast.friction);
+  r.clumps = converted.clumps;
+  r.balls = converted.balls;
+  r.converted = converted.converted;
+  r.elements = converted.elements_after;
+  r.elements_before = all_clump_elements(c, converted.bodies, stones);
+  r.springs_dropped = converted.springs_dropped;
+  return r;
 }
 
 }  // namespace
@@ -39,34 +53,14 @@ fidelity::Policy make_policy(const std::string& spec, const Packing& packing) {
 
 std::int64_t all_clump_elements(const PushStudyConfig& c, const std::vector<dem::ClumpSpec>& bodies,
                                 const std::vector<StoneRecord>& stones) {
-  const fidelity::ShapeLibrary library =
-      c.stones.library.empty() ? fidelity::standard_library() : fidelity::load_library(c.stones.library);
+  fidelity::ShapeLibrary custom;  // the shipped library is used in place, not copied
+  const fidelity::ShapeLibrary& library =
+      c.stones.library.empty() ? fidelity::standard_library() : (custom = fidelity::load_library(c.stones.library));
   std::int64_t n = 0;
   for (std::size_t k = 0; k < bodies.size(); ++k)
     n += bodies[k].material == kBall ? static_cast<std::int64_t>(library.templates.at(stones[k].template_index).pebbles.size())
                                      : static_cast<std::int64_t>(bodies[k].pebbles.size());
   return n;
-}
-
-ModelReport converted_report(const PushStudyConfig& c, const fidelity::Policy& policy,
-                             const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones) {
-  ModelReport r;
-  r.policy = policy.describe();
-  r.rolling_friction = c.fidelity.rolling_friction;
-  r.ball_friction = c.fidelity.ball_friction.value_or(c.ballast.friction);
-  r.clumps = converted.clumps;
-  r.balls = converted.balls;
-  r.converted = converted.converted;
-  r.elements = converted.elements_after;
-  r.elements_before = all_clump_elements(c, converted.bodies, stones);
-  r.springs_dropped = converted.springs_dropped;
-  return r;
-}
-
-void add_growth(ModelReport& r, const GrownBed& grown) {
-  r.reshaped = grown.reshaped;
-  r.smallest_start_fraction = grown.smallest_start_fraction;
-  r.mean_start_fraction = grown.mean_start_fraction;
 }
 
 std::optional<StageReport> model_preparation(const std::vector<StageReport>& stages) {
@@ -120,7 +114,9 @@ ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidel
   const std::filesystem::path frames_path =
       control.stage_directory.empty() ? std::filesystem::path() : control.stage_directory / "resettle.h5";
   const GrownBed grown = grow_balls(c, packing.domain, converted, settle, frames_path);
-  add_growth(r, grown);
+  r.reshaped = grown.reshaped;
+  r.smallest_start_fraction = grown.smallest_start_fraction;
+  r.mean_start_fraction = grown.mean_start_fraction;
   if (!control.quiet && grown.report.steps > 0)
     fmt::print(stderr, "grow: {} balls from {:.2f} (smallest) / {:.2f} (mean) of their radius to size over {} s, {}\n",
                r.reshaped, r.smallest_start_fraction, r.mean_start_fraction, c.fidelity.growth_time,
@@ -135,7 +131,7 @@ ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidel
     frames = std::make_unique<dem::StateFile>(frames_path, sim, fmt::format("re-settling of {} as {}", c.name, r.policy));
   try {
     r.resettling = run_until_settled(sim, "resettle", c.preparation.equilibrium_ratio,
-                                     lifting_energy(grown.bodies, packing.stones), c.preparation.max_settling_time,
+                                     lifting_energy(grown.bodies, mean_size(packing.stones)), c.preparation.max_settling_time,
                                      control.quiet, RestCriterion::kForcesAndEnergy, frames.get());
   } catch (const dem::StabilityError&) {
     if (frames && sim.last_good_state()) frames->write_snapshot(sim, *sim.last_good_state(), "last good state");

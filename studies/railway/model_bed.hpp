@@ -45,11 +45,6 @@ struct ModelReport {
   double element_ratio() const { return elements_before ? double(elements) / double(elements_before) : 1.0; }
 };
 
-// The record of a conversion, before any growth or re-settling.
-ModelReport converted_report(const PushStudyConfig& config, const fidelity::Policy& policy,
-                             const fidelity::ConvertedBed& converted, const std::vector<StoneRecord>& stones);
-void add_growth(ModelReport& report, const GrownBed& grown);
-
 // For a model made at the deposition: its conversion and every stage after it summed (time,
 // steps, wall time), with the last stage's force ratio and sleeper base: what a re-settling
 // reports for the other point. None when the stages hold no "convert".

@@ -12,14 +12,13 @@ namespace {
 
 constexpr double kGravity = 9.81;  // m/s^2, the solver's default gravity
 
-// The work of lifting the stones by one mean stone size, J: the energy scale of "at rest".
+}  // namespace
+
 double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size) {
   double mass = 0.0;
   for (const auto& s : stones) mass += s.mass;
   return mass * kGravity * mean_size;
 }
-
-}  // namespace
 
 Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::vector<dem::ClumpSpec>& stones,
                 const StageSetup& setup, const StageGoal& goal, bool quiet, const std::filesystem::path& stage_directory,

@@ -31,6 +31,9 @@ Stage run_stage(const PushStudyConfig& config, const dem::Domain& domain, const 
                 const StageSetup& setup, const StageGoal& goal, bool quiet, const std::filesystem::path& stage_directory,
                 const StageDrive& drive = {});
 
+// The work of lifting the stones by one mean stone size (m), J: the energy scale of "at rest".
+double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size);
+
 // The sleeper at its design place: held along the track, free across it and vertically.
 dem::RigidBox sleeper_box(const SectionGeometry& geometry);
 
