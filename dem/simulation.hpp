@@ -125,7 +125,9 @@ class Simulation {
   // boxes, in the same order); applied by prepare() before the first force evaluation.
   void set_initial_springs(std::vector<SpringState> springs);
   // Fixes the time step (refusing one above the limit unless forced), builds the neighbour
-  // list and evaluates the first forces. Call after adding bodies and walls.
+  // list and evaluates the first forces. Call after adding bodies and walls. Throws
+  // std::invalid_argument for a step above the limit and InitialOverlapError for bodies given
+  // overlapping beyond guards.max_overlap_fraction.
   void prepare();
   // Changes the radius of element e from the next step on (after prepare()): a ball grown into
   // place. It takes effect after that step's drift, before its forces. Growth counts against
@@ -136,6 +138,9 @@ class Simulation {
   // Advances one step; throws StabilityError when a guard trips (the last good state is kept,
   // see last_good_state()).
   void step();
+  // The energy guard now (step() runs it every guards.check_interval steps): call it when a run
+  // ends, so that a blow-up in its last steps is not reported finished. Throws StabilityError.
+  void check_stability();
 
   double time() const { return time_; }
   std::int64_t step_count() const { return step_count_; }
@@ -197,7 +202,6 @@ class Simulation {
   template <bool kPointBodies>
   void gather_chunk(Index chunk);
   void finish_gather();
-  void check_stability();
   void check_boxes_clear_periodic_faces() const;
   void apply_initial_springs();
   std::vector<SpringState> initial_springs_;

@@ -149,6 +149,8 @@ void Simulation::check_stability() {
 }
 
 void Simulation::fail(const std::string& what, Index body, bool step_completed) const {
+  // The first force evaluation (prepare) sees the bodies as they were given.
+  if (!gather_and_kick_) throw InitialOverlapError(fmt::format("the bodies as given, before any step: {}", what));
   throw StabilityError(fmt::format("unstable run at t = {:.6g} s (step {}), body {}: {}. The "
                                    "last good state (t = {:.6g} s) is kept.",
                                    step_completed ? time_ : time_ + dt_,

@@ -25,6 +25,14 @@ class StabilityError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Thrown by Simulation::prepare when the bodies as given overlap beyond the guard before any
+// step: input to refuse when a user placed them (a scene), an instability of the stage before
+// when a program did (a bed handed on from one stage to the next).
+class InitialOverlapError : public StabilityError {
+ public:
+  using StabilityError::StabilityError;
+};
+
 // A body's state is finite: one test of the sum, since a NaN or an infinity in any component
 // makes the sum non-finite (a finite state would need components near 1e308 to overflow it).
 inline bool finite_state(const Vec3& x, const Vec3& v, const Vec3& w) { return std::isfinite((x + v + w).sum()); }

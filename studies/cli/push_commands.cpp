@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -10,23 +9,17 @@
 #include <string>
 
 #include "dem/stability.hpp"
-#include "fidelity/policy.hpp"
 #include "studies/cli/common_options.hpp"
+#include "studies/cli/subcommands.hpp"
 #include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
-#include "studies/railway/model_bed.hpp"
-#include "studies/cli/subcommands.hpp"
-#include "studies/railway/bed_preparation.hpp"
-#include "studies/railway/push_output.hpp"
-#include "studies/scene/progress.hpp"
+#include "studies/railway/push_study.hpp"
 
 namespace mfdem::cli {
 namespace {
 
 namespace fs = std::filesystem;
 constexpr int kUnstable = 3;  // as `mfdem run`
-constexpr const char* kReference = "all-clump";  // the policy that converts nothing
-constexpr double kRiseWarning = 2e-3;  // m: a re-settling that lifts the sleeper more is worth a warning
 
 // The model a command runs: replaces the config's [fidelity] policy, rolling_friction, ball_friction.
 struct ModelOptions {
@@ -58,173 +51,47 @@ fs::path packing_file(const fs::path& given) {
   return fs::is_directory(given) ? given / "packing.h5" : given;
 }
 
-// The config's [fidelity] with the command line's choices on top.
-void apply_model_options(const ModelOptions& o, railway::PushStudyConfig& config) {
+// The config's [fidelity] with the command line's choices on top; returns where the policy came
+// from, for the messages that refuse it ("" when from the config).
+std::string apply_model_options(const ModelOptions& o, railway::PushStudyConfig& config) {
   if (o.fidelity) config.fidelity.policy = *o.fidelity;
   if (o.rolling_friction) config.fidelity.rolling_friction = *o.rolling_friction;
   if (o.ball_friction) config.fidelity.ball_friction = *o.ball_friction;
-}
-
-// The policy checked against a bed whose sleeper base lies `scale` above the floor; a bad one is
-// a config error (exit 2) naming the option or the config key that gave it.
-fidelity::Policy checked_policy(const ModelOptions& o, const railway::PushStudyConfig& config,
-                                const fidelity::BedScale& scale, const std::string& bed) {
-  try {
-    return fidelity::PolicyRegistry::builtin().make(config.fidelity.policy, scale);
-  } catch (const fidelity::PolicyError& e) {
-    const std::string given = o.fidelity ? fmt::format("--fidelity {}", *o.fidelity)
-                                         : fmt::format("{}: fidelity.policy = \"{}\"", config.source.string(),
-                                                       config.fidelity.policy);
-    throw config::ConfigError(fmt::format("{}: {} ({})", given, e.what(), bed));
-  }
-}
-
-void print_preparation(std::ostream& out, const railway::Packing& p, const railway::PreparationReport& r) {
-  const std::string origin = r.continued_from.empty()
-                                 ? fmt::format("{} generated, {} trimmed", r.stones_generated, r.stones_removed)
-                                 : "continued from " + r.continued_from;
-  fmt::print(out, "\nPacked bed: {} (seed {}): {} stones, {} elements ({}), time step {:.3g} s\n", p.config.name,
-             p.config.seed, p.stones.size(), p.element_count(), origin, r.time_step);
-  // The stage column as wide as its longest name ("consolidate"); wall times up to "59 min 59 s".
-  std::size_t name_width = std::string("stage").size();
-  for (const auto& s : r.stages) name_width = std::max(name_width, s.name.size());
-  fmt::print(out, "  {:<{}} {:>12} {:>10} {:>16} {:>9} {:>12} {:>16}\n", "stage", name_width, "simulated s", "steps",
-             "unbalanced ratio", "settled", "wall", "sleeper base (m)");
-  for (const auto& s : r.stages)
-    fmt::print(out, "  {:<{}} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>12} {:>16}\n", s.name, name_width, s.simulated_time,
-               s.steps, s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds),
-               s.sleeper_base ? fmt::format("{:.5f}", *s.sleeper_base) : "-");
-  fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n", dem::box_bottom(p.sleeper),
-             p.config.geometry.sleeper_base());
+  return o.fidelity ? fmt::format("--fidelity {}", *o.fidelity) : std::string();
 }
 
 // Packs into options.out; returns the packing file, or none when stopped by --stop-after.
-std::optional<fs::path> pack(const PackOptions& o) {
+std::optional<fs::path> pack(const PackOptions& o, bool start_over = false) {
   railway::PushStudyConfig config = railway::load_push_config(o.config);
   if (o.common.seed_given) config.seed = o.common.seed;
-  // A model other than all-clump (--fidelity or the config's [fidelity]) is made at the deposition:
-  // converted there, it is prepared as the model's own bed (studies/presets/README.md says why).
-  apply_model_options(o.model, config);
-  std::optional<fidelity::Policy> model;
-  if (config.fidelity.policy != kReference)
-    model = checked_policy(o.model, config, {config.geometry.sleeper_base()},
-                           fmt::format("the design sleeper base lies {:.4f} m above the floor",
-                                       config.geometry.sleeper_base()));
-  fs::create_directories(o.common.out);
-  railway::PreparationControl control;
-  control.quiet = o.common.quiet;
-  control.stage_directory = o.keep_stages ? o.common.out : fs::path();
-  control.checkpoint = o.common.out / "checkpoint.h5";
-  control.resume = o.resume;
-  control.stop_after = o.stop_after;
-  if (o.continue_from.empty()) control.convert_after_deposit = model;  // a finished bed is not converted again
-  if (!o.deposit_from.empty()) {
-    const fs::path from = o.deposit_from;
-    control.deposit_from = fs::is_directory(from) ? from / "checkpoint.h5" : from;
-    if (fs::exists(control.deposit_from) && fs::equivalent(control.deposit_from, control.checkpoint))
-      throw std::runtime_error(fmt::format("--deposit-from {} is this run's own checkpoint, which its stages "
-                                           "overwrite; give another --out", control.deposit_from.string()));
-  }
-  if (!o.continue_from.empty()) {
-    control.continue_from = packing_file(o.continue_from);
-    const fs::path target = o.common.out / "packing.h5";
-    if (fs::exists(control.continue_from) && fs::exists(target) && fs::equivalent(control.continue_from, target))
-      throw std::runtime_error(fmt::format("--continue-from {} would be overwritten by the continued packing; "
-                                           "give another --out", control.continue_from.string()));
-  }
-  // A fresh pack would overwrite an earlier one's checkpoint, hours of work at paper size.
-  if (!o.resume && fs::exists(control.checkpoint))
-    throw std::runtime_error(fmt::format("{} holds the bed of an earlier pack that stopped before its end; go on "
-                                         "from it with 'mfdem pack {} --seed {} --out {} --resume', or remove it "
-                                         "to start over", control.checkpoint.string(), o.config, config.seed,
-                                         o.common.out.string()));
-  railway::PreparationReport report;
-  const std::optional<railway::Packing> packing = railway::prepare_bed(config, control, report);
-  if (!packing) {
-    fmt::print("Stopped after stage '{}': the bed is in {}.\nGo on with: mfdem pack {} --seed {} --out {} --resume\n",
-               o.stop_after, control.checkpoint.string(), o.config, config.seed, o.common.out.string());
-    return std::nullopt;
-  }
-  const fs::path file = o.common.out / "packing.h5";
-  railway::save_finished_packing(file, *packing, report.stages);
-  fs::remove(control.checkpoint);  // the packing holds all of it now
-  print_preparation(std::cout, *packing, report);
-  fmt::print("  written: {}\n", file.string());
-  for (const auto& s : report.stages)
-    if (!s.settled)
-      fmt::print(std::cerr, "mfdem: warning: stage '{}' stopped at its time limit, unbalanced force ratio {:.2e}\n",
-                 s.name, s.unbalanced_force_ratio);
-  return file;
+  railway::PackRequest request;
+  request.model_origin = apply_model_options(o.model, config);
+  request.out = o.common.out;
+  request.quiet = o.common.quiet;
+  request.keep_stages = o.keep_stages;
+  request.resume = o.resume;
+  request.start_over = start_over;
+  request.stop_after = o.stop_after;
+  request.deposit_from = o.deposit_from;
+  request.continue_from = o.continue_from;
+  return railway::pack_bed(config, request, std::cout).packing;
 }
 
 int push(const PushOptions& o, const fs::path& packing_path) {
-  const railway::Packing packing = railway::load_packing(packing_path);
-  railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
-  apply_model_options(o.model, config);
-  // A model's own bed (made by `mfdem pack` with a policy) is pushed as it is, unless asked.
-  if (!packing.model.empty() && !o.model.fidelity) config.fidelity.policy = kReference;
-  const fidelity::BedScale scale = railway::bed_frame(packing).scale();
-  const fidelity::Policy policy = checked_policy(
-      o.model, config, scale,
-      fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor", packing_path.string(),
-                  scale.sleeper_base));
-  railway::PushRun run;
-  run.velocity = o.velocity_mm_s ? *o.velocity_mm_s * 1e-3 : config.push.velocity;
-  run.distance = o.distance_mm ? *o.distance_mm * 1e-3 : config.push.distance;
-  run.quiet = o.common.quiet;
-  fs::create_directories(o.common.out);
-  railway::ModelControl model_control;
-  model_control.quiet = o.common.quiet;
-  model_control.stage_directory = o.common.out;
-  const railway::ModelBed model = [&] {
-    try {
-      return railway::model_bed(packing, config, policy, model_control);
-    } catch (const dem::StabilityError&) {
-      fmt::print(std::cerr, "mfdem: the converted bed ({}) and its last good state while re-settling are in {}\n",
-                 policy.describe(), (o.common.out / "resettle.h5").string());
-      throw;
-    }
-  }();
-  if (model.report.resettling) {
-    const double rise = *model.report.resettling->sleeper_base - *model.report.resettling->sleeper_base_start;
-    if (rise > kRiseWarning)
-      fmt::print(std::cerr,
-                 "mfdem: warning: growing the balls in the finished packing lifted the sleeper by {:.1f} mm (the "
-                 "bed dilated around them); a model prepared from the deposition ('mfdem pack CONFIG --fidelity "
-                 "{}', sharing it with --deposit-from) sits as the reference does (studies/presets/README.md)\n",
-                 rise * 1e3, config.fidelity.policy);
-    railway::Packing saved = model.packing;
-    saved.config = config;
-    railway::save_finished_packing(o.common.out / "model_packing.h5", saved, {*model.report.resettling});
-  }
-  run.state_file = o.common.out / "push_state.h5";
-  railway::PushResult result = railway::run_push(model.packing, config, run);
-  result.model = model.report;
-  // A model made at the deposition: its preparation from the conversion on stands for the re-settling.
-  if (!result.model.resettling && !packing.model.empty())
-    result.model.resettling = railway::model_preparation(railway::read_stage_reports(packing_path));
-  result.revision = git_revision();
-  railway::write_push_file(o.common.out / "push.h5", result);
-  railway::write_push_summary(o.common.out / "push_summary.toml", result, packing);
-  railway::print_push_summary(std::cout, result, packing);
-  fmt::print("  written: {}\n", (o.common.out / "push.h5").string());
-  if (result.status != "finished") return kUnstable;
-  if (!o.check_rate) return 0;
-  railway::PushRun slow = run;
-  slow.velocity = 0.5 * run.velocity;
-  const fs::path half_dir = o.common.out / "half_velocity";
-  fs::create_directories(half_dir);
-  slow.state_file = half_dir / "push_state.h5";
-  railway::PushResult half = railway::run_push(model.packing, config, slow);
-  half.model = result.model;
-  half.revision = result.revision;
-  railway::write_push_file(half_dir / "push.h5", half);
-  railway::write_push_summary(half_dir / "push_summary.toml", half, packing);
-  const railway::RateCheck check = railway::compare_rates(result, half);
-  railway::print_rate_check(std::cout, result, half, check);
-  railway::write_rate_check(o.common.out / "rate_check.toml", check);
-  fmt::print("  written: {}\n", (o.common.out / "rate_check.toml").string());
-  return half.status == "finished" ? 0 : kUnstable;
+  // The packing's own config unless --config; read before any work so that a bad one stops here.
+  railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string())
+                                             : railway::load_packing(packing_file(packing_path)).config;
+  railway::PushRequest request;
+  request.model_origin = apply_model_options(o.model, config);
+  request.convert = o.model.fidelity.has_value();
+  request.out = o.common.out;
+  request.quiet = o.common.quiet;
+  if (o.velocity_mm_s) request.velocity = *o.velocity_mm_s * 1e-3;
+  if (o.distance_mm) request.distance = *o.distance_mm * 1e-3;
+  request.check_rate = o.check_rate;
+  request.revision = git_revision();
+  const railway::PushOutcome outcome = railway::push_bed(packing_path, config, request, std::cout);
+  return outcome.finished() ? 0 : kUnstable;
 }
 
 int guarded(const std::function<int()>& work) {
@@ -326,6 +193,10 @@ void add_push_commands(CLI::App& app, Action& action) {
   add_common_options(*push_command, push_options->common);
   push_command->callback([push_options, &action] {
     action = [push_options] {
+      if (push_options->common.seed_given)
+        throw config::ConfigError(fmt::format("--seed {}: a push has no seed of its own; the bed, and its seed, are "
+                                              "the packing's (pack another seed with 'mfdem pack --seed')",
+                                              push_options->common.seed));
       apply_thread_count(push_options->common);
       return guarded([&] { return push(*push_options, packing_file(push_options->packing)); });
     };
@@ -345,14 +216,13 @@ void add_push_commands(CLI::App& app, Action& action) {
         PackOptions p;
         p.common = one_shot->common;
         p.config = one_shot->packing;
-        // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
-        // pack` refuses to overwrite a checkpoint instead.
-        fs::remove(p.common.out / "checkpoint.h5");
         p.model = one_shot->model;  // a model is made at the deposition (pack checks it before any work)
         PushOptions as_packed = *one_shot;
         as_packed.model.fidelity.reset();
-        // Pushed from the file just written, so the push is bitwise the one `mfdem push` makes.
-        return push(as_packed, *pack(p));
+        // The one-shot form always starts over (an interrupted demo reruns as typed); `mfdem
+        // pack` refuses to overwrite a checkpoint instead. Pushed from the file just written, so
+        // the push is bitwise the one `mfdem push` makes.
+        return push(as_packed, *pack(p, true));
       });
     };
   });

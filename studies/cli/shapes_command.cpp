@@ -186,7 +186,11 @@ int build(const ShapesOptions& options, std::ostream& out) {
   if (options.pebbles)
     for (auto& stone : stones) stone.source.packing.pebbles = *options.pebbles;
   fs::path directory = fidelity::standard_library_directory();
+  const bool shipped_settings =
+      fs::exists(default_settings()) && fs::equivalent(options.settings, default_settings());
   if (options.out) directory = *options.out;
+  else if (!shipped_settings)  // another library's settings: never into the shipped one
+    directory = fs::current_path() / (options.settings.stem().string() + "_library");
   else if (options.pebbles && *options.pebbles != settings_pebbles)
     directory += fmt::format("_{}", *options.pebbles);  // never overwrite the shipped library by accident
   ShapeLibrary library;
@@ -234,7 +238,8 @@ void add_shapes_command(CLI::App& app, Action& action, std::ostream& out, std::o
   build_command->footer(
       "Every stone of the settings is generated (or read from its STL file), filled with pebbles by\n"
       "bubble packing, and its mass properties integrated. Writes <name>.toml per template to --out\n"
-      "(default: the shipped library, or <library>_N when --pebbles N differs from the settings),\n"
+      "(default: the shipped library, or <library>_N when --pebbles N differs from the settings;\n"
+      "with other --settings, SETTINGS-STEM_library in the working folder),\n"
       "then prints the table of `mfdem shapes list`.");
   build_command->add_option("--settings", options->settings, "Settings file (TOML) of the library")
       ->capture_default_str();

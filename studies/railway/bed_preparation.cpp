@@ -232,6 +232,7 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
       throw std::invalid_argument(fmt::format("--stop-after {}: done before the packing {} was finished",
                                               control.stop_after, control.continue_from.string()));
     bed = load_finished_bed(control.continue_from, c, report);
+    if (control.before_work) control.before_work();
     report.continued_from = control.continue_from.string();
     if (!control.quiet)
       fmt::print(stderr, "continuing {}: {} stones, {} more traffic pulses, then settling\n",
@@ -249,10 +250,12 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
     if (!control.stop_after.empty() && stop_index <= next)
       throw std::invalid_argument(fmt::format("--stop-after {}: already done in {} (its next stage is '{}')",
                                               control.stop_after, from.string(), name));
+    if (control.before_work) control.before_work();
     if (!control.quiet)
       fmt::print(stderr, "{} {}: {} stones, next stage '{}'\n", reuse ? "deposited bed from" : "resuming from",
                  from.string(), bed.stones.size(), name);
   } else {
+    if (control.before_work) control.before_work();
     bed = deposit(c, control.quiet, report, control.stage_directory);
     if (done("deposit", names.front())) return std::nullopt;
   }

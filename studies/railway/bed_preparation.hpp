@@ -54,6 +54,7 @@
 // later (PreparationControl, preparation_checkpoint.hpp). Steps 4b-5c are in
 // compaction_stages.hpp, the run of one stage in preparation_stage.hpp.
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,6 +88,9 @@ struct PreparationControl {
   // deposition's friction and walls (ball_growth.hpp), and every later stage runs on the model's
   // bed: the alternative conversion point of model_bed.hpp.
   std::optional<fidelity::Policy> convert_after_deposit;
+  // Called once the inputs are checked (the stop, the checkpoint or packing to start from),
+  // before the first stage runs: where a caller clears what the new bed replaces.
+  std::function<void()> before_work;
 };
 
 // The stages a preparation with this config can stop after: "deposit", then those of expand,

@@ -87,6 +87,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   for (const auto& [name, value] : numbers) write_attribute(file, name, value);
   write_attribute(file, "seed", static_cast<double>(r.seed));
   write_attribute(file, "config_hash", r.config_hash);
+  write_attribute(file, "push_config", r.push_config);
   write_attribute(file, "revision", r.revision);
   {
     const hid_t model = make_group(file, "model");
@@ -99,6 +100,7 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   write_doubles(file, "curve/force", column(r.curve, [](auto& s) { return s.force; }));
   write_doubles(file, "curve/heave", column(r.curve, [](auto& s) { return s.heave; }));
   write_doubles(file, "curve/time", column(r.curve, [](auto& s) { return s.time; }));
+  write_doubles(file, "curve/contacts", column(r.curve, [](auto& s) { return double(s.contacts); }));
   write_doubles(file, "curve/base", column(r.curve, [](auto& s) { return s.parts.base; }));
   write_doubles(file, "curve/crib", column(r.curve, [](auto& s) { return s.parts.crib; }));
   write_doubles(file, "curve/shoulder", column(r.curve, [](auto& s) { return s.parts.shoulder; }));
@@ -133,6 +135,20 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
   H5Fclose(file);
 }
 
+ForceCurve read_force_curve(const std::filesystem::path& path) {
+  hid_t file = -1;
+  H5E_BEGIN_TRY { file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); }
+  H5E_END_TRY;
+  if (file < 0) throw std::runtime_error(fmt::format("{}: cannot open it as an HDF5 file", path.string()));
+  if (H5Lexists(file, "curve", H5P_DEFAULT) <= 0) {
+    H5Fclose(file);
+    throw std::runtime_error(fmt::format("{}: no /curve group (not a push.h5)", path.string()));
+  }
+  ForceCurve curve{dem::h5::read_doubles(file, "curve/u"), dem::h5::read_doubles(file, "curve/force")};
+  H5Fclose(file);
+  return curve;
+}
+
 void write_push_summary(const std::filesystem::path& path, const PushResult& r, const Packing& p) {
   std::ofstream out(path);
   out << "# mfdem push summary; forces in N, lengths in m, times in s\n"
@@ -140,7 +156,8 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       << fmt::format("config = \"{}\"\nseed = {}\nstatus = \"{}\"\nsleeper_vertical = \"{}\"\n", p.config.name,
                      p.config.seed, r.status, sleeper_vertical(r));
   if (!r.message.empty()) out << fmt::format("message = \"\"\"{}\"\"\"\n", r.message);
-  out << fmt::format("config_hash = \"{}\"\nrevision = \"{}\"\n", r.config_hash, r.revision);
+  out << fmt::format("push_config = \"{}\"\nconfig_hash = \"{}\"\nrevision = \"{}\"\n", r.push_config, r.config_hash,
+                     r.revision);
   out << fmt::format(
       "stones = {}\nelements = {}\nvelocity = {:.6g}\ndistance = {:.6g}\npeak_force = {:.6g}\nu_at_peak = {:.6g}\nmean_force = {:.6g}\n"
       "max_contact_force = {:.6g}\ncontact_force_q999 = {:.6g}\nmean_contact_force = {:.6g}\n"
@@ -180,6 +197,7 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
       row("  sleeper rose while settling (mm)",
           fmt::format("{:+.3f}", (*m.resettling->sleeper_base - *m.resettling->sleeper_base_start) * 1e3));
   }
+  if (r.push_config != p.config.name) row("materials, guards, [push] from", r.push_config);
   row("push velocity (mm/s)", fmt::format("{:.3g}", r.velocity * 1e3));
   row("push distance u_end (mm)", fmt::format("{:.3g}", r.distance * 1e3));
   row("sleeper vertically", sleeper_vertical(r));

@@ -4,13 +4,15 @@
 //                 definitions), velocity, distance, peak_force, u_at_peak, max_contact_force,
 //                 contact_force_q999, mean_contact_force, max_inertial_number, final_heave,
 //                 time_step, steps, wall_seconds, stones, elements, status, message, seed,
-//                 config_hash (FNV-1a of the config text), revision (git, of the code)
+//                 config_hash (FNV-1a of the config text), push_config (the config whose
+//                 materials, guards and [push] ran: the packing's, or --config's), revision (git)
 //                 /model attrs: policy, conversion_point, rolling_friction, ball_friction,
 //                   clumps, balls, converted, elements, elements_before, element_ratio,
 //                   springs_dropped, and after a re-settling resettle_wall_seconds,
 //                   resettle_simulated_time, resettle_force_ratio, resettle_settled (1/0),
 //                   resettle_sleeper_rise (m) (model_bed.hpp)
 //                 /curve/{u, force, heave, time}                F(u) samples (m, N, m, s)
+//                 /curve/contacts                              active element contacts at each sample
 //                 /network/{u, mean_stress, inertial_number, coordination}
 //                 /end_state/contact_body_a, contact_body_b    [contacts] stone indices
 //                 /end_state/contact_point, contact_force      [contacts, 3] (force on b, N)
@@ -28,6 +30,11 @@
 namespace mfdem::railway {
 
 void write_push_file(const std::filesystem::path& path, const PushResult& result);
+// F(u) of a push.h5: /curve/u and /curve/force. Throws std::runtime_error naming the file.
+struct ForceCurve {
+  std::vector<double> u, force;  // m, N
+};
+ForceCurve read_force_curve(const std::filesystem::path& path);
 void write_push_summary(const std::filesystem::path& path, const PushResult& result, const Packing& packing);
 void print_push_summary(std::ostream& out, const PushResult& result, const Packing& packing);
 // The two pushes of --check-rate compared: the change of the peak force at half the velocity (the

@@ -7,13 +7,15 @@
 #include <cmath>
 
 #include "dem/state_file.hpp"
+#include "studies/config/config_error.hpp"
 #include "studies/railway/section_simulation.hpp"
 #include "studies/scene/progress.hpp"
 
 namespace mfdem::railway {
 namespace {
 
-constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate printed at the start
+constexpr std::int64_t kEstimateSteps = 200;
+constexpr double kMostPushSteps = 1e12;  // a month of a tiny bed's steps: beyond it, a typo  // steps timed for the estimate printed at the start
 
 NetworkSample sample_network(const dem::Simulation& sim, const PushStudyConfig& c, double u, double velocity,
                              double mean_size, double volume) {
@@ -113,6 +115,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   PushResult r;
   r.seed = packing.config.seed;
   r.config_hash = config_hash(c.text);
+  r.push_config = c.text == packing.config.text ? c.name : fmt::format("{} ({})", c.name, c.source.string());
   r.velocity = run.velocity;
   r.distance = run.distance;
   r.time_step = sim.time_step();
@@ -135,7 +138,13 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   // would hit the stones in front at full speed, a force peak that no quasi-static test has.
   const double ramp_distance = std::min(c.push.ramp_distance, run.distance);
   const double ramp_time = 2.0 * ramp_distance / run.velocity;
-  const std::int64_t total = std::llround((run.distance + 0.5 * run.velocity * ramp_time) / (run.velocity * dt));
+  const double step_count = (run.distance + 0.5 * run.velocity * ramp_time) / (run.velocity * dt);
+  // A count llround cannot hold would wrap to nonsense; fewer than one step is no push.
+  if (!(step_count >= 1.0 && step_count <= kMostPushSteps))
+    throw config::ConfigError(fmt::format(
+        "{}: a push of {:.6g} m at {:.6g} m/s takes {:.3g} steps of {:.3g} s: expected 1 to {:.0e} steps",
+        c.source.string(), run.distance, run.velocity, step_count, dt, kMostPushSteps));
+  const std::int64_t total = std::llround(step_count);
   const auto drive_speed = [&](std::int64_t step) {
     const double t = (static_cast<double>(step) + 0.5) * dt;  // mid-step
     return ramp_time > 0.0 ? run.velocity * std::min(1.0, t / ramp_time) : run.velocity;
@@ -145,7 +154,8 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(1e-3 / (run.velocity * dt)));
   const double x0 = sim.boxes()[0].centre.x(), z0 = sim.boxes()[0].centre.z();
   r.curve.push_back({0.0, -sim.box_force(0).x(), 0.0, 0.0, resistance_parts(sim.box_face_forces(0)),
-                     support_parts(sim.box_face_forces(0)), pressing_parts(sim.box_face_forces(0))});
+                     support_parts(sim.box_face_forces(0)), pressing_parts(sim.box_face_forces(0)),
+                     sim.active_contact_count()});
   r.network.push_back(sample_network(sim, c, 0.0, run.velocity, mean_size, volume));
 
   std::optional<dem::StateFile> frames;
@@ -163,6 +173,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
     for (; k <= total; ++k) {
       sim.mutable_boxes()[0].velocity.x() = drive_speed(k - 1);
       sim.step();
+      if (k == total) sim.check_stability();  // the guard runs every few hundred steps: and at the end
       if (k == kEstimateSteps && !run.quiet) {
         const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / k;
         fmt::print(stderr, "push: {} stones, {} elements, time step {:.3g} s, {} steps, estimated {}\n", r.stones,
@@ -177,7 +188,7 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
       if (k % record_every == 0 || k == total) {
         const double n = static_cast<double>(in_interval);
         r.curve.push_back({u, force_sum / n, sim.boxes()[0].centre.z() - z0, sim.time(), parts_sum / n,
-                           support_sum / n, pressing_sum / n});
+                           support_sum / n, pressing_sum / n, sim.active_contact_count()});
         force_sum = 0.0;
         parts_sum = support_sum = pressing_sum = ResistanceParts{};
         in_interval = 0;

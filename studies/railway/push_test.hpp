@@ -50,6 +50,7 @@ struct ForceSample {
   ResistanceParts parts;  // of F(u), mean over the same interval
   ResistanceParts support;  // of the upward force on the sleeper (its weight when at rest), same faces
   ResistanceParts pressing;  // the stones' normal force on each face group (compression), same faces
+  std::int64_t contacts = 0;  // active element contacts (pairs and walls) at the sample's end: a step's cost
 };
 
 // The parts of F = -(force on the sleeper).x by face.
@@ -97,6 +98,9 @@ struct PushResult {
   ModelReport model;                  // the fidelity policy, mu_r, stones as clumps and balls
   std::uint64_t seed = 0;             // of the packing
   std::string config_hash;            // of the config text (config_hash())
+  // The config whose materials, guards and push settings ran (name and file): the packing's own,
+  // or another one given for a variant (`mfdem push --config`); the bed is always the packing's.
+  std::string push_config;
   std::string revision;               // of the code (set by the caller that knows it)
 
   const ForceSample& at_peak() const { return curve[peak_sample]; }  // its parts, support, pressing

@@ -62,6 +62,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     }
   }
   progress.finish();
+  sim.check_stability();  // the guard runs every few hundred steps: and at the end
   if (criterion == RestCriterion::kFixedTime) r.settled = true;
   if (frames) frames->write_frame(sim);
   r.unbalanced_force_ratio = sim.unbalanced_force_ratio();

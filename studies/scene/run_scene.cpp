@@ -12,6 +12,7 @@
 #include "dem/state_file.hpp"
 #include "fidelity/element_count.hpp"
 #include "studies/cli/commands.hpp"
+#include "studies/config/config_error.hpp"
 #include "studies/scene/progress.hpp"
 #include "studies/scene/scene_file.hpp"
 
@@ -22,6 +23,29 @@ long long peak_rss_bytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<long long>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+// Steps of the whole run and between outputs, refused (naming the file and the keys) when the
+// duration and the step make a count that is below one or past what a run can hold: llround
+// of 1e300 / 1e-6 would wrap to nonsense and the run would "finish" after no step.
+struct StepPlan {
+  std::int64_t total = 0, output_every = 1;
+};
+
+constexpr double kMostRunSteps = 1e12;
+
+StepPlan step_plan(const scene::Scene& s, const dem::Simulation& sim, const std::filesystem::path& file) {
+  const double dt = sim.time_step();
+  const double total = s.duration / dt, between = s.output_interval / dt;
+  if (!(total >= 1.0 && total <= kMostRunSteps))
+    throw config::ConfigError(fmt::format("{}: duration = {:.6g} s at time step {:.6g} s makes {:.3g} steps: "
+                                          "expected 1 to {:.0e}", file.string(), s.duration, dt, total,
+                                          kMostRunSteps));
+  if (!(between <= kMostRunSteps))
+    throw config::ConfigError(fmt::format("{}: output_interval = {:.6g} s at time step {:.6g} s makes {:.3g} "
+                                          "steps between outputs: expected at most {:.0e}", file.string(),
+                                          s.output_interval, dt, between, kMostRunSteps));
+  return {std::llround(total), std::max<std::int64_t>(1, std::llround(between))};
 }
 
 struct RunTotals {
@@ -60,7 +84,12 @@ void write_summary(const std::filesystem::path& file, const scene::Scene& scene,
 void check_scene_file(const std::filesystem::path& file) {
   const scene::Scene s = scene::load_scene(file);
   dem::Simulation sim = scene::make_simulation(s);
-  sim.prepare();  // also refuses an unstable time step
+  try {
+    sim.prepare();  // also refuses an unstable time step
+  } catch (const dem::InitialOverlapError& e) {
+    throw config::ConfigError(fmt::format("{}: {}; place them apart", file.string(), e.what()));
+  }
+  step_plan(s, sim, file);
 }
 
 int run_scene_command(const RunOptions& options) {
@@ -75,9 +104,12 @@ int run_scene_command(const RunOptions& options) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "\n";
     return 2;
+  } catch (const dem::InitialOverlapError& e) {  // bodies the scene placed overlapping: its input
+    std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "; place them apart\n";
+    return 2;
   }
-  const std::int64_t total_steps = std::llround(s.duration / sim.time_step());
-  const std::int64_t output_every = std::max<std::int64_t>(1, std::llround(s.output_interval / sim.time_step()));
+  const StepPlan plan = step_plan(s, sim, options.scene);
+  const std::int64_t total_steps = plan.total, output_every = plan.output_every;
   const auto count = fidelity::count_elements(sim.bodies());
   if (!quiet)
     fmt::print("mfdem run {}\n  bodies {}  elements {}  walls {}  threads {}\n  time step {:.4g} s "
@@ -104,6 +136,7 @@ int run_scene_command(const RunOptions& options) {
       for (std::int64_t k = 0; k < burst; ++k) sim.step();
       totals.wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       totals.steps += burst;
+      if (totals.steps == total_steps) sim.check_stability();  // the guard runs every few hundred steps: and at the end
       if (sim.step_count() % output_every == 0 || totals.steps == total_steps) state.write_frame(sim);
       progress.update(double(totals.steps),
                       fmt::format("t = {:.4g} s  KE = {:.3g} J", sim.time(), sim.energy().kinetic()));

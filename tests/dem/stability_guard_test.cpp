@@ -5,6 +5,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <limits>
 #include <string>
 
@@ -50,6 +53,34 @@ std::string run_until_error(Simulation& sim, int steps) {
     return e.what();
   }
   return "";
+}
+
+// Four ballast-sized spheres: three on a floor, one falling onto them from 7 mm above; the
+// [simulation] keys (duration, step, output interval) and the guards' keys are written in.
+std::string four_spheres(const std::string& simulation_keys, const std::string& guards) {
+  return "# a scene made unstable on purpose: its time step is above the stability limit\n"
+         "[simulation]\n" +
+         simulation_keys + "[guards]\n" + guards +
+         "[domain]\n"
+         "min = [-0.5, -0.5, 0.0]\n"
+         "max = [0.5, 0.5, 1.0]\n"
+         "[materials.ballast]\n"
+         "density = 2800.0\n"
+         "normal_stiffness = 2e7\n"
+         "shear_stiffness = 2e7\n"
+         "friction = 0.5\n"
+         "[[sphere]]\nposition = [0.0, 0.0, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
+         "[[sphere]]\nposition = [0.1, 0.0, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
+         "[[sphere]]\nposition = [0.05, 0.09, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
+         "[[sphere]]\nposition = [0.05, 0.03, 0.14]\nradius = 0.05\nmaterial = \"ballast\"\n"
+         "[[wall]]\ntype = \"plane\"\nname = \"floor\"\npoint = [0.0, 0.0, 0.0]\n"
+         "normal = [0.0, 0.0, 1.0]\nmaterial = \"ballast\"\n";
+}
+
+double stability_limit_of(const std::filesystem::path& scene) {
+  Simulation probe = mfdem::scene::make_simulation(mfdem::scene::load_scene(scene));
+  probe.prepare();
+  return probe.time_step_limit().limit;
 }
 
 }  // namespace
@@ -133,35 +164,10 @@ TEST_CASE("energy put in without work stops the run at the next energy check, na
 TEST_CASE("mfdem run stops an unstable forced step with status 3 and keeps the frames and the last good state",
           "[dem][guards][cli]") {
   const mfdem::test::TempDir dir;
-  // Four ballast-sized spheres: three on a floor, one falling onto them from 7 mm above; the
-  // step and the output interval are written in below.
-  auto scene_text = [](const std::string& time_step) {
-    return "# a scene made unstable on purpose: its time step is twice the stability limit\n"
-           "[simulation]\n"
-           "duration = 0.2\n" +
-           time_step +
-           "[guards]\n"
-           "check_interval = 1\n"
-           "[domain]\n"
-           "min = [-0.5, -0.5, 0.0]\n"
-           "max = [0.5, 0.5, 1.0]\n"
-           "[materials.ballast]\n"
-           "density = 2800.0\n"
-           "normal_stiffness = 2e7\n"
-           "shear_stiffness = 2e7\n"
-           "friction = 0.5\n"
-           "[[sphere]]\nposition = [0.0, 0.0, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
-           "[[sphere]]\nposition = [0.1, 0.0, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
-           "[[sphere]]\nposition = [0.05, 0.09, 0.05]\nradius = 0.05\nmaterial = \"ballast\"\n"
-           "[[sphere]]\nposition = [0.05, 0.03, 0.14]\nradius = 0.05\nmaterial = \"ballast\"\n"
-           "[[wall]]\ntype = \"plane\"\nname = \"floor\"\npoint = [0.0, 0.0, 0.0]\n"
-           "normal = [0.0, 0.0, 1.0]\nmaterial = \"ballast\"\n";
-  };
+  auto scene_text = [](const std::string& time_step) { return four_spheres("duration = 0.2\n" + time_step, "check_interval = 1\n"); };
   // The limit of this scene, from the solver itself.
   const auto probe_file = dir.write("probe.toml", scene_text("output_interval = 0.002\n"));
-  Simulation probe = mfdem::scene::make_simulation(mfdem::scene::load_scene(probe_file));
-  probe.prepare();
-  const double limit = probe.time_step_limit().limit;
+  const double limit = stability_limit_of(probe_file);
   const auto scene = dir.write("unstable.toml",
                                scene_text(fmt::format("time_step = {0:.17g}\noutput_interval = {0:.17g}\n",
                                                       2.0 * limit)));
@@ -209,4 +215,48 @@ TEST_CASE("mfdem run stops an unstable forced step with status 3 and keeps the f
     CHECK(frame.velocity == last.velocity);
   }
   CHECK(matched);
+}
+
+TEST_CASE("a run ends with an energy check: a blow-up between two checks is not reported finished",
+          "[dem][guards][cli]") {
+  // 100 steps at 3.7 times the limit with the default check every 200 steps: before the guard
+  // ran at the end too, this run was written "finished" (exit 0).
+  const mfdem::test::TempDir dir;
+  const double limit =
+      stability_limit_of(dir.write("probe.toml", four_spheres("duration = 0.2\noutput_interval = 0.002\n", "")));
+  const double step = 3.7 * limit;
+  const auto scene = dir.write("short.toml", four_spheres(fmt::format("duration = {1:.17g}\ntime_step = {0:.17g}\n"
+                                                                      "force_time_step = true\n",
+                                                                      step, 100 * step),
+                                                          ""));
+  const auto result = mfdem::test::run_mfdem({"run", scene.string(), "--out", (dir.path() / "out").string(), "-q"});
+  CAPTURE(result.err);
+  CHECK(result.status == 3);
+  CHECK_THAT(result.err, Contains("energy grew") && Contains("(step 100)"));  // found by the check at the end
+  std::stringstream summary;
+  summary << std::ifstream(dir.path() / "out" / "summary.toml").rdbuf();
+  CHECK_THAT(summary.str(), Contains("status = \"unstable\""));
+}
+
+TEST_CASE("bodies a scene places overlapping beyond the guard are refused before any step, naming them",
+          "[dem][guards][cli]") {
+  const mfdem::test::TempDir dir;
+  std::string text = four_spheres("duration = 0.2\noutput_interval = 0.002\n", "");
+  text += "[[sphere]]\nposition = [0.0, 0.0, 0.06]\nradius = 0.05\nmaterial = \"ballast\"\n";  // 10 mm from body 0
+  const auto scene = dir.write("overlap.toml", text);
+  const auto result = mfdem::test::run_mfdem({"run", scene.string(), "--out", (dir.path() / "out").string(), "-q"});
+  CHECK(result.status == 2);
+  CHECK_THAT(result.err, Contains("overlap.toml") && Contains("bodies 0 and 4") && Contains("before any step"));
+  const auto check = mfdem::test::run_mfdem({"check", scene.string()});
+  CHECK(check.status == 2);
+  CHECK_THAT(check.err, Contains("bodies 0 and 4"));
+}
+
+TEST_CASE("a duration that makes more steps than a run can count is refused, naming the key", "[dem][guards][cli]") {
+  const mfdem::test::TempDir dir;
+  const std::string text = four_spheres("duration = 0.2\ntime_step = 1e-300\noutput_interval = 0.002\n", "");
+  const auto scene = dir.write("tiny_step.toml", text);
+  const auto result = mfdem::test::run_mfdem({"run", scene.string(), "--out", (dir.path() / "out").string(), "-q"});
+  CHECK(result.status == 2);
+  CHECK_THAT(result.err, Contains("tiny_step.toml") && Contains("duration = 0.2") && Contains("steps"));
 }

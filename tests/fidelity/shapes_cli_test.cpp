@@ -77,6 +77,17 @@ TEST_CASE("mfdem shapes build makes a library from settings, with generated and 
   const auto finer = run_mfdem({"shapes", "build", "--settings", settings.string(), "--out", out.string(), "--pebbles", "5"});
   REQUIRE(finer.status == 0);
   CHECK(mfdem::fidelity::load_library(out).at("scan").pebbles.size() == 5);
+
+  // Without --out, another library's settings build into the working folder, never into the
+  // shipped library (which stays as it was).
+  const auto shipped = mfdem::fidelity::load_library(mfdem::fidelity::standard_library_directory());
+  const auto here = run_mfdem({"shapes", "build", "--settings", settings.string()}, dir.path().string());
+  REQUIRE(here.status == 0);
+  CHECK_THAT(here.out, Contains("wrote 2 templates to " + (dir.path() / "settings_library").string()));
+  CHECK(mfdem::fidelity::load_library(dir.path() / "settings_library").templates.size() == 2);
+  const auto after = mfdem::fidelity::load_library(mfdem::fidelity::standard_library_directory());
+  REQUIRE(after.templates.size() == shipped.templates.size());
+  for (std::size_t k = 0; k < after.templates.size(); ++k) CHECK(after.templates[k].name == shipped.templates[k].name);
 }
 
 TEST_CASE("mfdem shapes build reports a bad setting with file, line and key", "[fidelity][shapes-cli]") {

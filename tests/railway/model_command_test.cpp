@@ -79,7 +79,7 @@ TEST_CASE("push --fidelity converts, re-settles and pushes, and records the mode
 
   const std::string model = bed + "/layer";
   const auto push = run_mfdem({"push", bed, "--fidelity", "layer-by-height:h_fraction=0.5", "--rolling-friction",
-                               "0.25", "--distance", "0.3", "--out", model, "-q", "--threads", "1"});
+                               "0.25", "--distance", "0.3", "--out", model, "--threads", "1"});
   REQUIRE(push.status == 0);
   CHECK_THAT(push.out, Catch::Contains("layer-by-height:h=") && Catch::Contains("stones as clumps / balls"));
   const auto summary = toml::parse_file(model + "/push_summary.toml");
@@ -120,7 +120,7 @@ TEST_CASE("push-test --fidelity prepares the model from the deposition and pushe
   std::ofstream(config) << tiny_clumps();
   const std::string out = (dir.path() / "model").string();
   const auto run = run_mfdem({"push-test", config.string(), "--fidelity", "layer-by-height:h_fraction=0.5",
-                              "--rolling-friction", "0.2", "--distance", "0.2", "--out", out, "-q", "--threads", "1"});
+                              "--rolling-friction", "0.2", "--distance", "0.2", "--out", out, "--threads", "1"});
   REQUIRE(run.status == 0);
   CHECK_THAT(run.out, Catch::Contains("convert"));  // the stage in the packing's table
   const auto summary = toml::parse_file(out + "/push_summary.toml");

@@ -57,7 +57,7 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
   const auto config = dir.path() / "tiny.toml";
   std::ofstream(config) << mfdem::test::kTinyBed;
   const std::string bed = (dir.path() / "bed").string();
-  const auto pack = run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"});
+  const auto pack = run_mfdem({"pack", config.string(), "--out", bed, "--threads", "1"});
   REQUIRE(pack.status == 0);
   CHECK_THAT(pack.out, Catch::Contains("Packed bed: tiny (seed 7)"));
   CHECK_FALSE(std::filesystem::exists(bed + "/checkpoint.h5"));  // removed once the packing is written
@@ -94,7 +94,7 @@ TEST_CASE("pack then push --check-rate writes both pushes and reports the change
     H5Fclose(file);
   }
   const std::string push_dir = bed + "/push";
-  const auto push = run_mfdem({"push", bed, "--check-rate", "--distance", "0.5", "--out", push_dir, "-q", "--threads", "1"});
+  const auto push = run_mfdem({"push", bed, "--check-rate", "--distance", "0.5", "--out", push_dir, "--threads", "1"});
   REQUIRE(push.status == 0);
   const auto full = toml::parse_file(push_dir + "/push_summary.toml");
   const auto half = toml::parse_file(push_dir + "/half_velocity/push_summary.toml");

@@ -26,10 +26,12 @@ inline std::string shell_quoted(const std::string& word) {
   return quoted + "'";
 }
 
-inline Outcome run_mfdem(const std::vector<std::string>& arguments) {
+// Runs it in `working_directory` when given, else in the test's own.
+inline Outcome run_mfdem(const std::vector<std::string>& arguments, const std::string& working_directory = {}) {
   const TempDir scratch;
   const auto err_file = scratch.path() / "stderr";
-  std::string command = shell_quoted(MFDEM_EXECUTABLE);
+  std::string command = working_directory.empty() ? std::string() : "cd " + shell_quoted(working_directory) + " && ";
+  command.append(shell_quoted(MFDEM_EXECUTABLE));
   // append() rather than " " + word: GCC 12 gives a false -Wrestrict on `literal + std::string&&`.
   for (const auto& argument : arguments) command.append(" ").append(shell_quoted(argument));
   command.append(" 2>").append(shell_quoted(err_file.string()));

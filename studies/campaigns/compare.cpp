@@ -1,0 +1,298 @@
+#include "studies/campaigns/compare.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "studies/config/config_error.hpp"
+#include "studies/railway/push_output.hpp"
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::campaigns {
+namespace {
+
+namespace fs = std::filesystem;
+
+double mean_of(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / double(v.size());
+}
+
+const char* verdict_text(Verdict v) {
+  switch (v) {
+    case Verdict::within: return "within";
+    case Verdict::outside: return "outside";
+    default: return "undecided";
+  }
+}
+
+std::string percent_interval(const MeanInterval& d) {
+  if (d.n == 0) return "-";
+  if (!std::isfinite(d.half_width)) return fmt::format("{:+.1f}", 100.0 * d.mean);
+  return fmt::format("{:+.1f} +- {:.1f}", 100.0 * d.mean, 100.0 * d.half_width);
+}
+
+std::string speedup_text(double s) { return s > 0.0 ? fmt::format("{:.2f}x", s) : "-"; }
+
+// The one-line verdict of a model: both outputs within the tolerance, or which is not, and
+// whether the differences are larger than the seed-to-seed spread.
+std::string verdict_line(const ModelRow& r, double tolerance) {
+  if (r.reference) return "the reference";
+  if (r.seeds == 0) return "no finished run";
+  const int tol = static_cast<int>(std::lround(100.0 * tolerance));
+  std::string line;
+  if (r.peak_verdict == Verdict::within && r.contact_verdict == Verdict::within)
+    line = fmt::format("within {} % on both outputs", tol);
+  else if (r.peak_verdict == Verdict::outside || r.contact_verdict == Verdict::outside)
+    line = fmt::format("outside {} % on {}", tol,
+                       r.peak_verdict == Verdict::outside && r.contact_verdict == Verdict::outside ? "both outputs"
+                       : r.peak_verdict == Verdict::outside                                       ? "the peak force"
+                                                                                                  : "the contact force");
+  else
+    line = fmt::format("not decided at {} %: the intervals straddle it (more seeds would tell)", tol);
+  const bool peak = r.peak_force.difference.resolved(), contact = r.max_contact_force.difference.resolved();
+  line += peak || contact ? fmt::format("; the difference exceeds the seed-to-seed spread on {}",
+                                        peak && contact ? "both" : peak ? "the peak force" : "the contact force")
+                          : "; neither difference exceeds the seed-to-seed spread";
+  return line;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::string& option) {
+  const auto refuse = [&](const std::string& why) {
+    throw config::ConfigError(fmt::format("{} '{}': {} (expected e.g. 1-5, 1,3,7 or 2-4,9)", option, text, why));
+  };
+  const auto whole = [&](const std::string& s) {
+    if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 18)
+      refuse(fmt::format("'{}' is not a whole number >= 0", s));
+    return std::stoull(s);
+  };
+  std::vector<std::uint64_t> seeds;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, ',');) {
+    const auto dash = part.find('-', 1);
+    if (dash == std::string::npos) {
+      seeds.push_back(whole(part));
+      continue;
+    }
+    const std::uint64_t first = whole(part.substr(0, dash)), last = whole(part.substr(dash + 1));
+    if (last < first) refuse(fmt::format("the range {} runs backwards", part));
+    if (last - first > 100000) refuse(fmt::format("the range {} holds more than 100,000 seeds", part));
+    for (std::uint64_t s = first; s <= last; ++s) seeds.push_back(s);
+  }
+  if (seeds.empty()) refuse("no seed given");
+  std::set<std::uint64_t> seen;
+  for (auto s : seeds)
+    if (!seen.insert(s).second) refuse(fmt::format("seed {} is given twice", s));
+  return seeds;
+}
+
+StudyCount run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
+                       const std::function<void(int, int)>& after_run, std::size_t first_seed) {
+  StudyCount count;
+  const std::size_t n = request.seeds.size();
+  const int total = static_cast<int>(n * request.models.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint64_t seed = request.seeds[(first_seed + k) % n];
+    for (const Model& model : request.models) {
+      switch (ensure_push_run(store, request.config, model, seed, context)) {
+        case runs::RunStore::Outcome::computed: ++count.computed; break;
+        case runs::RunStore::Outcome::found: ++count.found; break;
+        case runs::RunStore::Outcome::busy: ++count.busy; break;
+      }
+      const auto record = store.find(run_key(request.config, model, seed));
+      if (record && !record->finished()) ++count.failed;
+      if (after_run) after_run(count.computed + count.found, total);
+    }
+  }
+  return count;
+}
+
+CompareTable compare_table(const runs::RunStore& store, const CompareRequest& request) {
+  CompareTable table;
+  table.config = request.config.name;
+  table.seeds = request.seeds;
+  table.tolerance = request.tolerance;
+  const std::size_t n_models = request.models.size(), n_seeds = request.seeds.size();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // value[m][s] of one number; NaN where the run is missing or failed.
+  std::vector<std::vector<std::optional<runs::RunRecord>>> records(n_models,
+                                                                   std::vector<std::optional<runs::RunRecord>>(n_seeds));
+  std::set<std::string> revisions;
+  std::vector<double> deposition;
+  for (std::size_t m = 0; m < n_models; ++m)
+    for (std::size_t s = 0; s < n_seeds; ++s) {
+      records[m][s] = store.find(run_key(request.config, request.models[m], request.seeds[s]));
+      if (records[m][s]) revisions.insert(records[m][s]->revision);
+    }
+  const auto values = [&](std::size_t m, const char* name) {
+    std::vector<double> v(n_seeds, nan);
+    for (std::size_t s = 0; s < n_seeds; ++s)
+      if (records[m][s] && records[m][s]->finished()) v[s] = records[m][s]->number(name).value_or(nan);
+    return v;
+  };
+  const auto finite_mean = [](const std::vector<double>& v) {
+    std::vector<double> f;
+    for (double x : v)
+      if (std::isfinite(x)) f.push_back(x);
+    return mean_of(f);
+  };
+  const std::size_t ref = request.reference;
+  for (std::size_t s = 0; s < n_seeds; ++s)
+    if (records[ref][s] && records[ref][s]->finished())
+      deposition.push_back(records[ref][s]->number(number::kDepositionWall).value_or(0.0));
+  table.deposition_wall = mean_of(deposition);
+  table.revisions.assign(revisions.begin(), revisions.end());
+
+  // The reference's curves, read once.
+  std::vector<std::optional<railway::ForceCurve>> reference_curves(n_seeds);
+  for (std::size_t s = 0; s < n_seeds; ++s)
+    if (records[ref][s] && records[ref][s]->finished())
+      reference_curves[s] = railway::read_force_curve(store.run_folder(records[ref][s]->key) / "push.h5");
+
+  const double ref_push = finite_mean(values(ref, number::kPushWall));
+  const double ref_total = ref_push + finite_mean(values(ref, number::kPreparationWall));
+  for (std::size_t m = 0; m < n_models; ++m) {
+    ModelRow row;
+    row.model = request.models[m].text(request.config);
+    row.reference = m == ref;
+    for (std::size_t s = 0; s < n_seeds; ++s) {
+      if (!records[m][s]) continue;
+      if (records[m][s]->finished()) ++row.seeds;
+      else {
+        ++row.failed;
+        row.failures.push_back(fmt::format("seed {}: {}", request.seeds[s], records[m][s]->message));
+      }
+    }
+    row.clumps = finite_mean(values(m, number::kClumps));
+    row.balls = finite_mean(values(m, number::kBalls));
+    row.elements = finite_mean(values(m, number::kElements));
+    row.contacts_at_peak = finite_mean(values(m, number::kContactsAtPeak));
+    row.preparation_wall = finite_mean(values(m, number::kPreparationWall));
+    row.push_wall = finite_mean(values(m, number::kPushWall));
+    if (row.push_wall > 0.0) row.push_speedup = ref_push / row.push_wall;
+    if (row.push_wall + row.preparation_wall > 0.0) row.total_speedup = ref_total / (row.push_wall + row.preparation_wall);
+    const auto output = [&](const char* name) {
+      OutputRow o;
+      o.mean = finite_mean(values(m, name));
+      o.difference = mean_interval(relative_differences(values(m, name), values(ref, name)));
+      return o;
+    };
+    row.peak_force = output(number::kPeakForce);
+    row.max_contact_force = output(number::kMaxContactForce);
+    row.contact_force_q999 = output(number::kContactForceQ999);
+    row.mean_force = output(number::kMeanForce);
+    std::vector<double> curve_differences;
+    for (std::size_t s = 0; s < n_seeds; ++s) {
+      if (!reference_curves[s] || !records[m][s] || !records[m][s]->finished()) continue;
+      const railway::ForceCurve c = railway::read_force_curve(store.run_folder(records[m][s]->key) / "push.h5");
+      curve_differences.push_back(
+          normalised_rms_difference(c.u, c.force, reference_curves[s]->u, reference_curves[s]->force));
+    }
+    row.curve_difference = mean_interval(curve_differences);
+    row.peak_verdict = verdict(row.peak_force.difference, request.tolerance);
+    row.contact_verdict = verdict(row.max_contact_force.difference, request.tolerance);
+    table.rows.push_back(row);
+  }
+  return table;
+}
+
+void print_compare_table(std::ostream& out, const CompareTable& t) {
+  std::size_t width = std::string("model").size();
+  for (const auto& r : t.rows) width = std::max(width, r.model.size());
+  std::string reference = "-";
+  for (const auto& r : t.rows)
+    if (r.reference) reference = r.model;
+  fmt::print(out, "\nCompare: {} on seeds {} ({} seeds); the reference is {}\n", t.config, fmt::join(t.seeds, ","),
+             t.seeds.size(), reference);
+  fmt::print(out, "\nCost (means over seeds; the shared deposition took {} per seed)\n",
+             scene::format_duration(t.deposition_wall));
+  fmt::print(out, "  {:<{}} {:>5} {:>6} {:>6} {:>9} {:>10} {:>12} {:>10} {:>8} {:>8}\n", "model", width, "runs", "clumps",
+             "balls", "elements", "contacts", "re-settling", "push", "push x", "total x");
+  for (const auto& r : t.rows)
+    fmt::print(out, "  {:<{}} {:>5} {:>6.0f} {:>6.0f} {:>9.0f} {:>10.0f} {:>12} {:>10} {:>8} {:>8}\n", r.model, width,
+               r.failed ? fmt::format("{}+{}F", r.seeds, r.failed) : std::to_string(r.seeds), r.clumps, r.balls,
+               r.elements, r.contacts_at_peak, scene::format_duration(r.preparation_wall),
+               scene::format_duration(r.push_wall), speedup_text(r.push_speedup), speedup_text(r.total_speedup));
+  fmt::print(out, "\nAccuracy (means over seeds; difference from the reference in %, paired by seed, +- the 95 % "
+                  "Student-t half-width)\n");
+  fmt::print(out, "  {:<{}} {:>9} {:>15} {:>10} {:>15} {:>10} {:>15} {:>10} {:>15} {:>13}\n", "model", width, "peak kN",
+             "d peak %", "max c. kN", "d max c. %", "q99.9 kN", "d q99.9 %", "mean F kN", "d mean F %", "F(u) NRMS %");
+  for (const auto& r : t.rows)
+    fmt::print(out, "  {:<{}} {:>9.3f} {:>15} {:>10.3f} {:>15} {:>10.3f} {:>15} {:>10.3f} {:>15} {:>13}\n", r.model,
+               width, r.peak_force.mean * 1e-3, percent_interval(r.peak_force.difference),
+               r.max_contact_force.mean * 1e-3, percent_interval(r.max_contact_force.difference),
+               r.contact_force_q999.mean * 1e-3, percent_interval(r.contact_force_q999.difference),
+               r.mean_force.mean * 1e-3, percent_interval(r.mean_force.difference),
+               r.reference ? std::string("0") : percent_interval(r.curve_difference));
+  fmt::print(out, "\nVerdict (peak lateral force and maximum contact force, tolerance {:.0f} %)\n", 100.0 * t.tolerance);
+  for (const auto& r : t.rows) fmt::print(out, "  {:<{}}  {}\n", r.model, width, verdict_line(r, t.tolerance));
+  for (const auto& r : t.rows)
+    for (const auto& f : r.failures) fmt::print(out, "  failed: {} {}\n", r.model, f);
+  fmt::print(out,
+             "\nre-settling: the model's preparation after the shared deposition (conversion, growth of the balls, "
+             "the later stages); push x, total x: the reference's wall time over the model's (push alone; "
+             "re-settling + push). contacts: active element contacts at the peak. F(u) NRMS: RMS of F_model - "
+             "F_reference over the reference's samples / its peak. An interval is over the seeds both models "
+             "finished (t with n - 1 degrees of freedom); one seed gives no interval.\n");
+  if (t.revisions.size() > 1)
+    fmt::print(out, "WARNING: the runs were computed by {} code revisions ({}): the table mixes them\n",
+               t.revisions.size(), fmt::join(t.revisions, ", "));
+}
+
+void write_compare_markdown(const fs::path& file, const CompareTable& t) {
+  std::ofstream out(file);
+  out << fmt::format("# Compare: {} on seeds {}\n\n", t.config, fmt::join(t.seeds, ","));
+  out << "| model | runs | clumps | balls | elements | contacts at peak | re-settling (s) | push (s) | push speedup | "
+         "total speedup | peak F (kN) | d peak (%) | max contact (kN) | d max contact (%) | q99.9 (kN) | d q99.9 (%) | "
+         "mean F (kN) | d mean F (%) | F(u) NRMS (%) | verdict |\n";
+  out << "|";
+  for (int column = 0; column < 20; ++column) out << "---|";
+  out << "\n";
+  for (const auto& r : t.rows)
+    out << fmt::format("| {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.1f} | {:.1f} | {} | {} | {:.3f} | {} | {:.3f} | "
+                       "{} | {:.3f} | {} | {:.3f} | {} | {} | {} |\n",
+                       r.model, r.seeds, r.clumps, r.balls, r.elements, r.contacts_at_peak, r.preparation_wall,
+                       r.push_wall, speedup_text(r.push_speedup), speedup_text(r.total_speedup),
+                       r.peak_force.mean * 1e-3, percent_interval(r.peak_force.difference),
+                       r.max_contact_force.mean * 1e-3, percent_interval(r.max_contact_force.difference),
+                       r.contact_force_q999.mean * 1e-3, percent_interval(r.contact_force_q999.difference),
+                       r.mean_force.mean * 1e-3, percent_interval(r.mean_force.difference),
+                       r.reference ? std::string("0") : percent_interval(r.curve_difference),
+                       verdict_line(r, t.tolerance));
+  out << fmt::format("\nDifferences are paired by seed (every model starts from the seed's deposition): mean +- the "
+                     "half-width of the 95 % Student-t interval over the seeds. The shared deposition took {:.1f} s "
+                     "per seed.\n",
+                     t.deposition_wall);
+  if (t.revisions.size() > 1) out << fmt::format("\n**The runs mix code revisions: {}.**\n", fmt::join(t.revisions, ", "));
+}
+
+void write_compare_csv(const fs::path& file, const CompareTable& t) {
+  std::ofstream out(file);
+  out << "model,reference,seeds,failed,clumps,balls,elements,contacts_at_peak,preparation_wall_s,push_wall_s,"
+         "push_speedup,total_speedup";
+  for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
+    out << fmt::format(",{0}_N,{0}_diff,{0}_diff_low,{0}_diff_high", o);
+  out << ",curve_nrms,curve_nrms_low,curve_nrms_high,peak_verdict,contact_verdict\n";
+  const auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
+  for (const auto& r : t.rows) {
+    out << fmt::format("\"{}\",{},{},{},{},{},{},{},{},{},{},{}", r.model, r.reference ? 1 : 0, r.seeds, r.failed,
+                       g(r.clumps), g(r.balls), g(r.elements), g(r.contacts_at_peak), g(r.preparation_wall),
+                       g(r.push_wall), g(r.push_speedup), g(r.total_speedup));
+    for (const OutputRow* o : {&r.peak_force, &r.max_contact_force, &r.contact_force_q999, &r.mean_force})
+      out << fmt::format(",{},{},{},{}", g(o->mean), g(o->difference.mean), g(o->difference.low()),
+                         g(o->difference.high()));
+    out << fmt::format(",{},{},{},{},{}\n", g(r.curve_difference.mean), g(r.curve_difference.low()),
+                       g(r.curve_difference.high()), verdict_text(r.peak_verdict), verdict_text(r.contact_verdict));
+  }
+}
+
+}  // namespace mfdem::campaigns

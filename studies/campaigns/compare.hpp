@@ -1,0 +1,77 @@
+#pragma once
+// `mfdem compare`: models run on the same beds (one deposition per seed), and the trade of each
+// against the reference: what it saved (elements, contacts, wall time) and what it cost (the
+// paired differences of the outputs, with 95 % intervals over seeds).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "studies/campaigns/paired_statistics.hpp"
+#include "studies/campaigns/push_runs.hpp"
+
+namespace mfdem::campaigns {
+
+struct CompareRequest {
+  railway::PushStudyConfig config;
+  std::vector<Model> models;
+  std::size_t reference = 0;            // index into models
+  std::vector<std::uint64_t> seeds;
+  double tolerance = 0.05;              // of the verdict, relative
+};
+
+// Parses "1-5", "1,3,7" or "2-4,9" (whole numbers >= 0, ranges ascending); throws
+// config::ConfigError naming `option` and the value, also for an empty list.
+std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::string& option);
+
+struct StudyCount {
+  int computed = 0, found = 0, busy = 0, failed = 0;
+};
+
+// Runs every (seed, model) of the request not yet in the store, seed by seed (each seed's
+// deposition made once, its models then), starting at the seed `first_seed` places into the list
+// (so that the processes of one study start on different seeds), and reports after each run:
+// `after_run(done, total)` gets the runs done so far (found or computed) for a progress line.
+StudyCount run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
+                       const std::function<void(int done, int total)>& after_run = {}, std::size_t first_seed = 0);
+
+// One output of one model against the reference.
+struct OutputRow {
+  double mean = 0.0;                    // over the model's finished seeds, in the output's unit
+  MeanInterval difference;              // paired relative difference from the reference
+};
+
+struct ModelRow {
+  std::string model;                    // Model::text
+  bool reference = false;
+  std::size_t seeds = 0, failed = 0;    // finished runs, failed runs
+  double clumps = 0.0, balls = 0.0, elements = 0.0, contacts_at_peak = 0.0;  // means over seeds
+  double preparation_wall = 0.0, push_wall = 0.0;  // s, means
+  double push_speedup = 0.0, total_speedup = 0.0;  // reference's mean wall / this model's
+  OutputRow peak_force, max_contact_force, contact_force_q999, mean_force;
+  MeanInterval curve_difference;        // normalised RMS difference of F(u), per seed
+  Verdict peak_verdict = Verdict::undecided, contact_verdict = Verdict::undecided;
+  std::vector<std::string> failures;    // "seed 3: message"
+};
+
+struct CompareTable {
+  std::string config;                   // name
+  std::vector<std::uint64_t> seeds;
+  std::vector<ModelRow> rows;
+  double deposition_wall = 0.0;         // s, the shared deposition, mean over seeds
+  double tolerance = 0.05;
+  std::vector<std::string> revisions;   // of the runs; more than one: the table mixes code versions
+};
+
+// The table of the request from the store's records (finished runs; failed ones listed).
+CompareTable compare_table(const runs::RunStore& store, const CompareRequest& request);
+
+void print_compare_table(std::ostream& out, const CompareTable& table);
+void write_compare_markdown(const std::filesystem::path& file, const CompareTable& table);
+// One row per model, every number of the table in SI units (N, s) and fractions.
+void write_compare_csv(const std::filesystem::path& file, const CompareTable& table);
+
+}  // namespace mfdem::campaigns

@@ -1,0 +1,67 @@
+#include "studies/campaigns/paired_statistics.hpp"
+
+#include <gsl/gsl_cdf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mfdem::campaigns {
+
+MeanInterval mean_interval(const std::vector<double>& values) {
+  MeanInterval m;
+  m.n = values.size();
+  if (m.n == 0) return m;
+  for (double v : values) m.mean += v;
+  m.mean /= double(m.n);
+  if (m.n < 2) {
+    m.half_width = std::numeric_limits<double>::infinity();
+    return m;
+  }
+  double squares = 0.0;
+  for (double v : values) squares += (v - m.mean) * (v - m.mean);
+  m.standard_deviation = std::sqrt(squares / double(m.n - 1));
+  m.half_width = gsl_cdf_tdist_Pinv(0.975, double(m.n - 1)) * m.standard_deviation / std::sqrt(double(m.n));
+  return m;
+}
+
+std::vector<double> relative_differences(const std::vector<double>& model, const std::vector<double>& reference) {
+  if (model.size() != reference.size()) throw std::invalid_argument("relative_differences: unpaired lists");
+  std::vector<double> d;
+  for (std::size_t k = 0; k < model.size(); ++k)
+    if (std::isfinite(model[k]) && std::isfinite(reference[k]) && reference[k] != 0.0)
+      d.push_back((model[k] - reference[k]) / reference[k]);
+  return d;
+}
+
+Verdict verdict(const MeanInterval& d, double tolerance) {
+  if (d.n == 0) return Verdict::undecided;
+  if (d.low() >= -tolerance && d.high() <= tolerance) return Verdict::within;
+  if (d.low() > tolerance || d.high() < -tolerance) return Verdict::outside;
+  return Verdict::undecided;
+}
+
+double normalised_rms_difference(const std::vector<double>& um, const std::vector<double>& fm,
+                                 const std::vector<double>& ur, const std::vector<double>& fr) {
+  if (um.size() != fm.size() || ur.size() != fr.size())
+    throw std::invalid_argument("normalised_rms_difference: u and F of different lengths");
+  if (um.empty() || ur.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const double peak = *std::max_element(fr.begin(), fr.end());
+  const double u_last = std::min(um.back(), ur.back());
+  double sum = 0.0;
+  std::size_t n = 0, j = 0;
+  for (std::size_t k = 0; k < ur.size() && ur[k] <= u_last; ++k) {
+    while (j + 1 < um.size() && um[j + 1] < ur[k]) ++j;
+    double f = fm[j];
+    if (j + 1 < um.size() && um[j + 1] > um[j] && ur[k] >= um[j]) {
+      const double w = (ur[k] - um[j]) / (um[j + 1] - um[j]);
+      f = (1.0 - w) * fm[j] + w * fm[j + 1];
+    }
+    sum += (f - fr[k]) * (f - fr[k]);
+    ++n;
+  }
+  return n > 0 && peak > 0.0 ? std::sqrt(sum / double(n)) / peak : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace mfdem::campaigns

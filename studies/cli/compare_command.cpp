@@ -1,0 +1,200 @@
+// `mfdem compare`: models on the same beds, the trade table over seeds (studies/campaigns/compare.hpp).
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "studies/campaigns/compare.hpp"
+#include "studies/cli/common_options.hpp"
+#include "studies/cli/subcommands.hpp"
+#include "studies/cli/version.hpp"
+#include "studies/config/config_error.hpp"
+#include "studies/scene/progress.hpp"
+
+extern char** environ;
+
+namespace mfdem::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kDefaultModels =
+    "all-clump,layer-by-height:h_fraction=0.5,zone-by-distance:d=0.1,all-ball";
+
+struct CompareOptions {
+  CommonOptions common;
+  std::string config;
+  std::string models = kDefaultModels;
+  std::string seeds = "1-3";
+  std::string reference;
+  int jobs = 2;
+  double tolerance = 5.0;  // %
+  bool retry_failed = false;
+  int worker = 0;          // > 0: the k-th process of --jobs: runs, prints no table
+};
+
+campaigns::CompareRequest make_request(const CompareOptions& o) {
+  campaigns::CompareRequest request;
+  request.config = railway::load_push_config(o.config);
+  request.models = campaigns::parse_models(o.models, "--models");
+  request.seeds = campaigns::parse_seeds(o.seeds, "--seeds");
+  request.tolerance = o.tolerance / 100.0;
+  if (!o.reference.empty()) {
+    const auto given = campaigns::parse_models(o.reference, "--reference");
+    const std::string wanted = given.front().text(request.config);
+    request.reference = request.models.size();
+    for (std::size_t m = 0; m < request.models.size(); ++m)
+      if (request.models[m].text(request.config) == wanted) request.reference = m;
+    if (request.reference == request.models.size())
+      throw config::ConfigError(fmt::format("--reference {}: not one of the --models ({})", o.reference, o.models));
+  }
+  for (std::size_t a = 0; a < request.models.size(); ++a)
+    for (std::size_t b = a + 1; b < request.models.size(); ++b)
+      if (request.models[a].text(request.config) == request.models[b].text(request.config))
+        throw config::ConfigError(fmt::format("--models {}: '{}' is given twice", o.models,
+                                              request.models[a].text(request.config)));
+  return request;
+}
+
+// The other processes of --jobs: this command again, one job each, writing into the same store.
+std::vector<pid_t> spawn_workers(const CompareOptions& o, int count) {
+  std::vector<pid_t> workers;
+  const fs::path logs = o.common.out / "logs";
+  fs::create_directories(logs);
+  for (int k = 0; k < count; ++k) {
+    std::vector<std::string> args = {"mfdem",   "compare",  o.config,        "--models", o.models,
+                                     "--seeds", o.seeds,    "--out",         o.common.out.string(),
+                                     "--jobs",  "1",        "--threads",     std::to_string(o.common.threads),
+                                     "--worker", std::to_string(k + 1), "--quiet"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t files;
+    posix_spawn_file_actions_init(&files);
+    const std::string log = (logs / fmt::format("worker-{}.log", k + 1)).string();
+    posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+    pid_t pid = 0;
+    const int error = posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&files);
+    if (error != 0) throw std::runtime_error(fmt::format("could not start worker {} of --jobs ({})", k + 1, error));
+    workers.push_back(pid);
+  }
+  return workers;
+}
+
+int compare(const CompareOptions& o) {
+  const campaigns::CompareRequest request = make_request(o);  // every input checked before any work
+  runs::RunStore store(o.common.out);
+  const int total = static_cast<int>(request.seeds.size() * request.models.size());
+  campaigns::RunContext context;
+  context.revision = git_revision();
+  if (o.worker > 0) {
+    campaigns::run_compare(store, request, context, {}, static_cast<std::size_t>(o.worker - 1));
+    return 0;
+  }
+  if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
+    fmt::print(std::cerr, "cleared {} runs in progress left by stopped processes\n", cleared);
+  if (o.retry_failed)
+    for (std::uint64_t seed : request.seeds)
+      for (const auto& model : request.models) {
+        const auto record = store.find(campaigns::run_key(request.config, model, seed));
+        if (record && !record->finished()) store.forget(record->key);
+      }
+  const auto done_in_store = [&] {
+    int done = 0;
+    for (std::uint64_t seed : request.seeds)
+      for (const auto& model : request.models) done += store.find(campaigns::run_key(request.config, model, seed)) ? 1 : 0;
+    return done;
+  };
+  const int done_before = done_in_store();
+  if (!o.common.quiet)
+    fmt::print(std::cerr, "compare: {} models x {} seeds = {} runs, {} already in {}; {} job{} of {} thread{}\n",
+               request.models.size(), request.seeds.size(), total, done_before, o.common.out.string(), o.jobs,
+               o.jobs > 1 ? "s" : "", o.common.threads, o.common.threads > 1 ? "s" : "");
+  // The ETA counts runs: a study's runs cost alike within a factor of a few (models differ).
+  scene::Progress progress("compare", double(total - done_before), o.common.quiet);
+  const auto report = [&](int done) {
+    progress.update(double(done - done_before), fmt::format("{} of {} runs in the store", done, total));
+  };
+  if (o.jobs > 1 && done_before < total) {
+    const std::vector<pid_t> workers = spawn_workers(o, std::min(o.jobs, total - done_before));
+    for (std::size_t finished = 0; finished < workers.size();) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      finished = 0;
+      for (pid_t w : workers) finished += kill(w, 0) != 0 || waitpid(w, nullptr, WNOHANG) == w ? 1 : 0;
+      report(done_in_store());
+    }
+    for (pid_t w : workers) waitpid(w, nullptr, 0);
+  }
+  // This process then (or alone) runs whatever is left: a worker's run that failed to start.
+  campaigns::run_compare(store, request, context, [&](int, int) { report(done_in_store()); });
+  progress.finish();
+  store.write_index();
+  const campaigns::CompareTable table = campaigns::compare_table(store, request);
+  const fs::path markdown = o.common.out / "compare.md", csv = o.common.out / "compare.csv";
+  campaigns::write_compare_markdown(markdown, table);
+  campaigns::write_compare_csv(csv, table);
+  if (!o.common.quiet) {
+    campaigns::print_compare_table(std::cout, table);
+    fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), (o.common.out / "index.csv").string());
+  }
+  const int missing = total - done_in_store();
+  if (missing > 0)
+    fmt::print(std::cerr, "mfdem: {} runs are still being computed by other processes; run the same command again "
+                          "to complete the table\n", missing);
+  return 0;
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app, Action& action) {
+  auto o = std::make_shared<CompareOptions>();
+  o->common.out = "out/compare";
+  o->common.threads = 1;
+  CLI::App* command = app.add_subcommand(
+      "compare", "Run models on the same beds over seeds and tabulate what each saved and what it cost");
+  command->add_option("config", o->config, "A preset (mini, standard, paper) or a study config file")->required();
+  command->add_option("--models", o->models,
+                      "Models, the first the reference: policies NAME[:k=v,...] (all-clump, all-ball, "
+                      "layer-by-height:h=M or h_fraction=F, zone-by-distance:d=M), each optionally with mu_r= "
+                      "and ball_mu= for its balls; separated by ',' (or ';')")
+      ->capture_default_str();
+  command->add_option("--seeds", o->seeds, "Seeds: 1-5, 1,3,7 or 2-4,9")->capture_default_str();
+  command->add_option("--reference", o->reference, "The model the others are compared with (default: the first)");
+  command->add_option("--jobs", o->jobs, "Runs computed at once, each a process of --threads threads")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  command->add_option("--tolerance", o->tolerance, "The verdict's tolerance on both outputs, %")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  command->add_flag("--retry-failed", o->retry_failed, "Compute the runs recorded as failed again");
+  command->add_option("--worker", o->worker)->group("");  // a process of --jobs
+  add_common_options(*command, o->common);
+  command->footer(
+      "Every model of a seed starts from the same deposited bed (made once, kept in OUT/shared/), so the\n"
+      "differences are paired by seed. Each run is a folder OUT/runs/KEY (push.h5, push_summary.toml,\n"
+      "packing.h5, run.toml); the same command again computes only what is missing. Writes\n"
+      "OUT/compare.md, OUT/compare.csv and OUT/index.csv (docs/compare.md).");
+  command->callback([o, &action] {
+    action = [o] {
+      if (o->common.seed_given)
+        throw config::ConfigError(fmt::format("--seed {}: compare runs the seeds of --seeds", o->common.seed));
+      apply_thread_count(o->common);
+      return compare(*o);
+    };
+  });
+}
+
+}  // namespace mfdem::cli

@@ -1,0 +1,86 @@
+// What a push may not be given, and what a folder of results may never hold: numbers that are
+// not finite or make no step, a seed a push does not have, and an earlier run's files beside a
+// new run's. Each refusal exits 2 before any work and names the option; each new run replaces
+// the folder's earlier results as a whole.
+#include <catch2/catch.hpp>
+#include <toml++/toml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/railway/tiny_bed.hpp"
+#include "tests/support/run_mfdem.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using Catch::Matchers::Contains;
+using mfdem::test::run_mfdem;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string status_of(const fs::path& summary) {
+  return toml::parse_file(summary.string())["status"].value_or(std::string("(none)"));
+}
+
+}  // namespace
+
+TEST_CASE("a push refuses numbers that are not finite, make no step, or a seed of its own",
+          "[railway][cli][input]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("tiny.toml", mfdem::test::kTinyBed);
+  const std::string bed = (dir.path() / "bed").string();
+  REQUIRE(run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"}).status == 0);
+  const std::string out = (dir.path() / "push").string();
+  for (const auto& [option, value] : {std::pair{"--velocity", "nan"}, {"--velocity", "inf"}, {"--distance", "nan"},
+                                      {"--distance", "1e-300"}, {"--velocity", "1e-300"}}) {
+    const auto refused = run_mfdem({"push", bed, option, value, "--out", out, "-q"});
+    CAPTURE(option, value, refused.err);
+    CHECK(refused.status == 2);
+    CHECK_THAT(refused.err, Contains(std::string(option).substr(2)));
+    CHECK_FALSE(fs::exists(out + "/push.h5"));
+  }
+  const auto seeded = run_mfdem({"push", bed, "--seed", "5", "--out", out, "-q"});
+  CHECK(seeded.status == 2);
+  CHECK_THAT(seeded.err, Contains("--seed 5") && Contains("packing's"));
+  const auto negative = run_mfdem({"pack", config.string(), "--seed", "-1", "--out", out, "-q"});
+  CHECK(negative.status == 2);
+  CHECK_THAT(negative.err, Contains("--seed -1") && Contains("whole number >= 0"));
+}
+
+TEST_CASE("a new run replaces the folder's earlier results as a whole, and a refused one leaves them",
+          "[railway][cli][input]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("tiny.toml", mfdem::test::kTinyBed);
+  const std::string bed = (dir.path() / "bed").string();
+  REQUIRE(run_mfdem({"pack", config.string(), "--out", bed, "-q", "--threads", "1"}).status == 0);
+  REQUIRE(run_mfdem({"push", bed, "--check-rate", "--distance", "0.2", "--out", bed, "-q", "--threads", "1"}).status ==
+          0);
+  REQUIRE(fs::exists(bed + "/half_velocity/push.h5"));
+  REQUIRE(fs::exists(bed + "/rate_check.toml"));
+
+  // Refused before any work: the earlier push stays whole.
+  CHECK(run_mfdem({"push", bed, "--distance", "nan", "--out", bed, "-q"}).status == 2);
+  CHECK(status_of(bed + "/push_summary.toml") == "finished");
+  CHECK(fs::exists(bed + "/half_velocity/push.h5"));
+
+  // A push without the rate check: the earlier one's second push and its comparison go with it.
+  REQUIRE(run_mfdem({"push", bed, "--distance", "0.2", "--out", bed, "-q", "--threads", "1"}).status == 0);
+  CHECK_FALSE(fs::exists(bed + "/half_velocity"));
+  CHECK_FALSE(fs::exists(bed + "/rate_check.toml"));
+  CHECK(status_of(bed + "/push_summary.toml") == "finished");
+  for (const auto& entry : fs::directory_iterator(bed))  // nothing left half-written
+    CHECK_THAT(entry.path().string(), !Contains(".partial"));
+
+  // A new pack into the folder, stopped after its deposition: the old bed and its push are gone,
+  // so `mfdem push` of the folder cannot push the old bed as if it were the new one.
+  REQUIRE(run_mfdem({"pack", config.string(), "--stop-after", "deposit", "--out", bed, "-q", "--threads", "1"})
+              .status == 0);
+  CHECK_FALSE(fs::exists(bed + "/packing.h5"));
+  CHECK_FALSE(fs::exists(bed + "/push.h5"));
+  CHECK_FALSE(fs::exists(bed + "/push_summary.toml"));
+  CHECK(fs::exists(bed + "/checkpoint.h5"));
+  const auto stale = run_mfdem({"push", bed, "--out", bed, "-q"});
+  CHECK(stale.status == 1);
+  CHECK_THAT(stale.err, Contains("packing.h5"));
+}
