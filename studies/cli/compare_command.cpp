@@ -30,7 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kDefaultModels =
-    "all-clump,layer-by-height:h_fraction=0.5,zone-by-distance:d=0.1,all-ball";
+    "all-clump,layer-by-height:h_fraction=0.5,zone-by-distance:d=0.03,all-ball";
 
 struct CompareOptions {
   CommonOptions common;

@@ -1,0 +1,192 @@
+// `mfdem compare` end to end on a micro bed (6-pebble clumps of 25 mm in a 0.12 m section, a
+// 0.3 mm push): what it computes, that it computes each run once whatever happens to it, and
+// what it refuses.
+#include <catch2/catch.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "studies/runs/run_store.hpp"
+#include "tests/railway/tiny_bed.hpp"
+#include "tests/support/run_mfdem.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using Catch::Matchers::Contains;
+using mfdem::test::run_mfdem;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string micro_bed() {
+  std::string text = mfdem::test::kTinyBed;
+  const auto swap = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+  swap("representation = \"ball\"", "representation = \"clump\"");
+  swap("section_length = 0.20", "section_length = 0.12");
+  swap("distance = 1e-3", "distance = 3e-4");
+  return text;
+}
+
+std::string text_of(const fs::path& file) {
+  std::stringstream s;
+  s << std::ifstream(file).rdbuf();
+  return s.str();
+}
+
+// compare.csv without the wall-time columns (8-11: preparation, push, the two speedups), which
+// differ from run to run; every other number is the simulation's and must repeat bitwise.
+std::string without_wall_times(const std::string& csv) {
+  std::stringstream in(csv), out;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream fields(line);
+    int column = 0;
+    for (std::string field; std::getline(fields, field, ',');) {
+      if (column < 8 || column > 11) out << field << ',';
+      ++column;
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+// A model that converts no stone: its bed, push and outputs are bitwise the reference's.
+constexpr const char* kModels = "all-clump,layer-by-height:h=0,all-ball";
+
+}  // namespace
+
+TEST_CASE("compare: the same table on 1 and 2 threads and with two processes, and zero difference for an "
+          "identical model", "[campaigns][cli]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("micro.toml", micro_bed());
+  const std::string one = (dir.path() / "one").string(), two = (dir.path() / "two").string();
+  const auto first = run_mfdem({"compare", config.string(), "--models", kModels, "--seeds", "1", "--out", one,
+                                "--jobs", "1", "--threads", "1"});
+  INFO(first.err);
+  REQUIRE(first.status == 0);
+  CHECK_THAT(first.out, Contains("Cost") && Contains("Accuracy") && Contains("Verdict"));
+  // Two worker processes of two threads each, into another store.
+  const auto second = run_mfdem({"compare", config.string(), "--models", kModels, "--seeds", "1", "--out", two,
+                                 "--jobs", "2", "--threads", "2"});
+  INFO(second.err);
+  REQUIRE(second.status == 0);
+  const std::string table = without_wall_times(text_of(one + "/compare.csv"));
+  CHECK(table == without_wall_times(text_of(two + "/compare.csv")));
+  // The model that converts nothing differs from the reference by exactly zero on every output.
+  std::stringstream rows(text_of(one + "/compare.csv"));
+  std::string header, reference, same;
+  std::getline(rows, header);
+  std::getline(rows, reference);
+  std::getline(rows, same);
+  CHECK_THAT(same, Contains("layer-by-height:h=0"));
+  const std::vector<std::string> fields = csv_fields(same);
+  REQUIRE(fields.size() == 33);
+  // The paired differences of the four outputs (columns 13, 17, 21, 25) and the F(u) NRMS (28):
+  // exactly 0; with one seed, no interval (its bounds empty).
+  for (std::size_t column : {13u, 17u, 21u, 25u, 28u}) {
+    CAPTURE(column);
+    CHECK(fields[column] == "0");
+    CHECK(fields[column + 1].empty());
+  }
+  const mfdem::runs::RunStore store(one);
+  const auto records = store.records();
+  REQUIRE(records.size() == 3);
+  std::optional<double> peak_reference, peak_same;
+  for (const auto& r : records) {
+    CHECK(r.finished());
+    if (r.label("model") == "all-clump") peak_reference = r.number("peak_force");
+    if (r.label("model") == "layer-by-height:h=0 mu_r=0.3") peak_same = r.number("peak_force");
+  }
+  REQUIRE(peak_reference);
+  CHECK(peak_same == peak_reference);  // bitwise
+  // Again: everything is found, nothing computed.
+  const auto again = run_mfdem({"compare", config.string(), "--models", kModels, "--seeds", "1", "--out", one,
+                                "--jobs", "1"});
+  CHECK(again.status == 0);
+  CHECK_THAT(again.err, Contains("3 already in"));
+  CHECK(records.front().revision == store.records().front().revision);
+}
+
+TEST_CASE("compare killed in the middle of a run recomputes only that run, and a failing run is recorded",
+          "[campaigns][cli]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("micro.toml", micro_bed());
+  const std::string out = (dir.path() / "store").string();
+  // h = 0.2 m lies above the sleeper base (0.08 m): refused by each run's bed, recorded as failed.
+  const std::string models = "all-clump,layer-by-height:h=0.2,all-ball";
+  const std::string command = mfdem::test::shell_quoted(MFDEM_EXECUTABLE) + " compare " + config.string() +
+                              " --models " + models + " --seeds 1 --jobs 1 -q --out " + out;
+  // Killed once the first run is published, while the next ones are in progress.
+  const pid_t child = fork();
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + command + " >/dev/null 2>&1").c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path runs = fs::path(out) / "runs";
+  for (int waited = 0; waited < 600 && (!fs::exists(runs) || fs::is_empty(runs)); ++waited)
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  kill(child, SIGKILL);
+  waitpid(child, nullptr, 0);
+  REQUIRE(fs::exists(runs));
+  const auto before = mfdem::runs::RunStore(out).records();
+  REQUIRE_FALSE(before.empty());
+  REQUIRE(before.size() < 3);  // killed before the study's end
+  const auto stamp = fs::last_write_time(runs / before.front().key / "run.toml");
+
+  const auto resumed = run_mfdem({"compare", config.string(), "--models", models, "--seeds", "1", "--jobs", "1",
+                                  "--out", out});
+  INFO(resumed.err);
+  REQUIRE(resumed.status == 0);
+  const auto after = mfdem::runs::RunStore(out).records();
+  REQUIRE(after.size() == 3);
+  CHECK(fs::last_write_time(runs / before.front().key / "run.toml") == stamp);  // not recomputed
+  CHECK(fs::is_empty(fs::path(out) / "work"));
+  CHECK(fs::is_empty(fs::path(out) / "claims"));
+  int failed = 0;
+  for (const auto& r : after)
+    if (!r.finished()) {
+      ++failed;
+      CHECK_THAT(r.message, Contains("h = 0.2"));
+    }
+  CHECK(failed == 1);
+  CHECK_THAT(resumed.out, Contains("failed: layer-by-height:h=0.2"));
+  // The index holds every run, rebuilt from the folders.
+  const std::string index = text_of(out + "/index.csv");
+  CHECK(std::count(index.begin(), index.end(), '\n') == 4);
+}
+
+TEST_CASE("compare refuses an unknown model, an empty or bad seed list and a reference not among the models",
+          "[campaigns][cli][input]") {
+  const mfdem::test::TempDir dir;
+  const std::string out = (dir.path() / "store").string();
+  const auto unknown = run_mfdem({"compare", "mini", "--models", "all-clump,all-bal", "--out", out});
+  CHECK(unknown.status == 2);
+  CHECK_THAT(unknown.err, Contains("--models all-clump,all-bal") && Contains("all-bal"));
+  const auto empty = run_mfdem({"compare", "mini", "--seeds", "", "--out", out});
+  CHECK(empty.status == 2);
+  CHECK_THAT(empty.err, Contains("--seeds") && Contains("no seed"));
+  const auto backwards = run_mfdem({"compare", "mini", "--seeds", "5-2", "--out", out});
+  CHECK(backwards.status == 2);
+  CHECK_THAT(backwards.err, Contains("5-2"));
+  const auto reference = run_mfdem({"compare", "mini", "--models", "all-clump,all-ball", "--reference",
+                                    "zone-by-distance:d=0.1", "--out", out});
+  CHECK(reference.status == 2);
+  CHECK_THAT(reference.err, Contains("--reference") && Contains("not one of the --models"));
+  const auto twice = run_mfdem({"compare", "mini", "--models", "all-ball,all-ball", "--out", out});
+  CHECK(twice.status == 2);
+  CHECK_THAT(twice.err, Contains("given twice"));
+  CHECK_FALSE(fs::exists(out));  // refused before the store was made
+}
