@@ -126,7 +126,9 @@ TEST_CASE("compare killed in the middle of a run recomputes only that run, and a
   const auto config = dir.write("micro.toml", micro_bed());
   const std::string out = (dir.path() / "store").string();
   // h = 0.2 m lies above the sleeper base (0.08 m): refused by each run's bed, recorded as failed.
-  const std::string models = "all-clump,layer-by-height:h=0.2,all-ball";
+  // h = 0 converts nothing: computed after the restart, it must be bitwise the reference computed
+  // before the kill, as in a study never interrupted.
+  const std::string models = "all-clump,layer-by-height:h=0.2,all-ball,layer-by-height:h=0";
   const std::string command = mfdem::test::shell_quoted(MFDEM_EXECUTABLE) + " compare " + config.string() +
                               " --models " + models + " --seeds 1 --jobs 1 -q --out " + out;
   // Killed once the first run is published, while the next ones are in progress.
@@ -143,7 +145,7 @@ TEST_CASE("compare killed in the middle of a run recomputes only that run, and a
   REQUIRE(fs::exists(runs));
   const auto before = mfdem::runs::RunStore(out).records();
   REQUIRE_FALSE(before.empty());
-  REQUIRE(before.size() < 3);  // killed before the study's end
+  REQUIRE(before.size() < 4);  // killed before the study's end
   const auto stamp = fs::last_write_time(runs / before.front().key / "run.toml");
 
   const auto resumed = run_mfdem({"compare", config.string(), "--models", models, "--seeds", "1", "--jobs", "1",
@@ -151,7 +153,7 @@ TEST_CASE("compare killed in the middle of a run recomputes only that run, and a
   INFO(resumed.err);
   REQUIRE(resumed.status == 0);
   const auto after = mfdem::runs::RunStore(out).records();
-  REQUIRE(after.size() == 3);
+  REQUIRE(after.size() == 4);
   CHECK(fs::last_write_time(runs / before.front().key / "run.toml") == stamp);  // not recomputed
   CHECK(fs::is_empty(fs::path(out) / "work"));
   CHECK(fs::is_empty(fs::path(out) / "claims"));
@@ -163,9 +165,16 @@ TEST_CASE("compare killed in the middle of a run recomputes only that run, and a
     }
   CHECK(failed == 1);
   CHECK_THAT(resumed.out, Contains("failed: layer-by-height:h=0.2"));
+  std::optional<double> reference, same;
+  for (const auto& r : after) {
+    if (r.label("model") == "all-clump") reference = r.number("peak_force");
+    if (r.label("model") == "layer-by-height:h=0 mu_r=0.3") same = r.number("peak_force");
+  }
+  REQUIRE(reference);
+  CHECK(same == reference);
   // The index holds every run, rebuilt from the folders.
   const std::string index = text_of(out + "/index.csv");
-  CHECK(std::count(index.begin(), index.end(), '\n') == 4);
+  CHECK(std::count(index.begin(), index.end(), '\n') == 5);
 }
 
 TEST_CASE("compare refuses an unknown model, an empty or bad seed list and a reference not among the models",
