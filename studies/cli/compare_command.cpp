@@ -165,7 +165,7 @@ void add_compare_command(CLI::App& app, Action& action) {
   o->common.threads = 1;
   CLI::App* command = app.add_subcommand(
       "compare", "Run models on the same beds over seeds and tabulate what each saved and what it cost");
-  command->add_option("config", o->config, "A preset (mini, standard, paper) or a study config file")->required();
+  command->add_option("config", o->config, "A preset (mini, study, standard, paper) or a study config file")->required();
   command->add_option("--models", o->models,
                       "Models, the first the reference: policies NAME[:k=v,...] (all-clump, all-ball, "
                       "layer-by-height:h=M or h_fraction=F, zone-by-distance:d=M), each optionally with mu_r= "

@@ -137,7 +137,7 @@ void add_push_commands(CLI::App& app, Action& action) {
   auto pack_options = std::make_shared<PackOptions>();
   CLI::App* pack_command = app.add_subcommand("pack", "Prepare a seeded ballast bed under a sleeper (packing.h5)");
   pack_command->add_option("config", pack_options->config,
-                           "A preset (mini, standard, paper) or a study config file (TOML)")->required();
+                           "A preset (mini, study, standard, paper) or a study config file (TOML)")->required();
   pack_command->add_flag("--keep-stages", pack_options->keep_stages,
                          "Also write the deposition and settling stages (OUT/deposit.h5, settle.h5, + .xdmf)");
   CLI::Option* resume_flag = pack_command->add_flag("--resume", pack_options->resume,
@@ -205,7 +205,7 @@ void add_push_commands(CLI::App& app, Action& action) {
   auto one_shot = std::make_shared<PushOptions>();
   CLI::App* test_command =
       app.add_subcommand("push-test", "Prepare a bed and push its sleeper in one go (pack, then push)");
-  test_command->add_option("config", one_shot->packing, "A preset (mini, standard, paper) or a study config file")
+  test_command->add_option("config", one_shot->packing, "A preset (mini, study, standard, paper) or a study config file")
       ->required();
   add_push_options(*test_command, *one_shot);
   add_common_options(*test_command, one_shot->common);

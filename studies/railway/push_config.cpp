@@ -187,7 +187,7 @@ PushStudyConfig load_push_config(const std::string& preset_or_file) {
     const auto preset = preset_directory() / (preset_or_file + ".toml");
     if (preset_or_file.find('/') != std::string::npos || !std::filesystem::exists(preset))
       throw std::runtime_error(fmt::format(
-          "{}: no such file, and not a preset (the presets are mini, standard and paper, in {})",
+          "{}: no such file, and not a preset (the presets are mini, study, standard and paper, in {})",
           preset_or_file, preset_directory().string()));
     file = preset;
   }

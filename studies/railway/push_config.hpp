@@ -1,6 +1,6 @@
 #pragma once
 // The configuration of a single-sleeper push study: the section, the stones, the materials, the
-// bed preparation and the push. Read from a TOML file; the shipped presets (mini, standard,
+// bed preparation and the push. Read from a TOML file; the shipped presets (mini, study, standard,
 // paper) are such files in studies/presets/, and every key is documented in
 // studies/presets/README.md.
 #include <cstdint>
@@ -118,7 +118,7 @@ struct PushStudyConfig {
   dem::GuardSettings guards;
 };
 
-// A preset name (mini, standard, paper) or a path to a TOML file. Throws config::ConfigError
+// A preset name (mini, study, standard, paper) or a path to a TOML file. Throws config::ConfigError
 // naming file, line, key, value and expectation; std::runtime_error for an unknown preset.
 PushStudyConfig load_push_config(const std::string& preset_or_file);
 // Parses a config held in memory (from a packing file); `source` names it in messages.

@@ -229,7 +229,7 @@ TEST_CASE("a bed converted after its deposition is prepared as the model's own a
   CHECK(m.report.elements_before > m.report.elements);  // the same stones as clumps
 }
 
-TEST_CASE("the largest ball any policy can make fits standard and paper; on mini the balls of the upper size D",
+TEST_CASE("the largest ball any policy can make fits study, standard and paper; on mini the balls of the upper size D",
           "[railway][model][config]") {
   // The equal-volume ball of the largest template at a size, against the periodic section
   // (check_balls_fit) and the crib, the sleeper's gap to its periodic image. Standard and paper
@@ -246,7 +246,7 @@ TEST_CASE("the largest ball any policy can make fits standard and paper; on mini
     return bed;
   };
   const double largest = fidelity::SieveCurve::en13450_31_5_63().largest_mm() * 1e-3;
-  for (const char* preset : {"standard", "paper"}) {
+  for (const char* preset : {"study", "standard", "paper"}) {
     CAPTURE(preset);
     CHECK_NOTHROW(railway::check_balls_fit(railway::load_push_config(preset), ball_of_size(largest)));
   }

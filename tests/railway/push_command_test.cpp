@@ -28,7 +28,7 @@ TEST_CASE("pack and push name the input they cannot use", "[railway][cli]") {
   CHECK_THAT(missing.err, !Catch::Contains("HDF5-DIAG"));  // our message, not HDF5's stack
   const auto preset = run_mfdem({"pack", "maxi", "--out", out, "-q"});
   CHECK(preset.status == 1);
-  CHECK_THAT(preset.err, Catch::Contains("maxi") && Catch::Contains("mini, standard and paper"));
+  CHECK_THAT(preset.err, Catch::Contains("maxi") && Catch::Contains("mini, study, standard and paper"));
   const auto stop = run_mfdem({"pack", "mini", "--stop-after", "settle", "--out", out, "-q"});
   CHECK(stop.status == 1);
   CHECK_THAT(stop.err, Catch::Contains("--stop-after settle") && Catch::Contains("expected one of: deposit"));

@@ -496,6 +496,27 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
     // Long enough for the creeping crib: standard seed 1 meets 1e-3 at 0.72 s (stop 25).
     CHECK(full.preparation.max_settling_time == 1.0);
   }
+  // study: standard's section with the sleeper and the spacing shortened, prepared and pushed as
+  // standard (its depth, shoulders, slopes, materials, preparation and push are standard's).
+  const auto study = railway::load_push_config("study");
+  const auto standard = railway::load_push_config("standard");
+  CHECK(study.geometry.sleeper_length == 0.6);
+  CHECK(study.geometry.section_length == 0.4);
+  CHECK(study.geometry.sleeper_mass == Approx(380.0 * 0.6 / 2.6).epsilon(1e-3));
+  CHECK(study.geometry.section_length - study.geometry.sleeper_width > 2 * 0.063);  // a crib of two stones of D
+  CHECK(study.geometry.depth_under_sleeper == standard.geometry.depth_under_sleeper);
+  CHECK(study.geometry.shoulder_width == standard.geometry.shoulder_width);
+  CHECK(study.geometry.shoulder_slope == standard.geometry.shoulder_slope);
+  CHECK(study.geometry.sleeper_width == standard.geometry.sleeper_width);
+  CHECK(study.geometry.sleeper_height == standard.geometry.sleeper_height);
+  CHECK(study.geometry.periodic_along_track);
+  CHECK(study.ballast.normal_stiffness == standard.ballast.normal_stiffness);
+  CHECK(study.ballast.friction == standard.ballast.friction);
+  CHECK(study.preparation.tamping_depth == standard.preparation.tamping_depth);
+  CHECK(study.preparation.consolidation_gravity == standard.preparation.consolidation_gravity);
+  CHECK(study.preparation.max_settling_time == standard.preparation.max_settling_time);
+  CHECK(study.push.velocity == standard.push.velocity);
+  CHECK(study.push.distance == standard.push.distance);
   // The velocity the rate checks chose on standard seeds 1-3 (results/push_test, stop 25).
   CHECK(railway::load_push_config("standard").push.velocity == 0.025);
   // The paper's setting: walls along the track, a wall sleeper held in the push, a trafficked bed.
@@ -504,5 +525,5 @@ TEST_CASE("the shipped presets load, with their documented sizes", "[railway][co
   CHECK(paper.push.sleeper_held_vertically);
   CHECK(paper.preparation.traffic_cycles == 20);
   CHECK(paper.preparation.traffic_load == 90e3);
-  CHECK_THROWS_WITH(railway::load_push_config("maxi"), Catch::Contains("mini, standard and paper"));
+  CHECK_THROWS_WITH(railway::load_push_config("maxi"), Catch::Contains("mini, study, standard and paper"));
 }
