@@ -1,5 +1,6 @@
 #pragma once
-// A one-line progress report with an ETA, redrawn at most once a second on stderr.
+// A one-line progress report with an ETA on stderr: redrawn at most once a second on a terminal,
+// a new line at most every 30 s into a file or a pipe (a log stays readable).
 #include <chrono>
 #include <string>
 
@@ -16,6 +17,7 @@ class Progress {
   std::string label_;
   double total_;
   bool quiet_;
+  bool terminal_ = true;
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_, last_;
 };

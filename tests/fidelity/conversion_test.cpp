@@ -144,7 +144,7 @@ TEST_CASE("converting a bed keeps its stones, mass and centres, and the springs 
   CHECK(out.springs[2].second == 0);  // a box index, not an element
 }
 
-TEST_CASE("all-clump leaves a bed and its springs bitwise unchanged; balls stay balls", "[fidelity][conversion]") {
+TEST_CASE("all-clump leaves a bed and its springs bitwise unchanged, and balls stay balls", "[fidelity][conversion]") {
   std::vector<ClumpSpec> bed;
   for (double z : {0.05, 0.25}) bed.push_back(clump_at(Vec3(0.0, 0.3, z), 1.5e-5));
   bed[0] = ball_of(bed[0], kDensity, kBall);

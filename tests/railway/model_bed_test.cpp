@@ -229,7 +229,7 @@ TEST_CASE("a bed converted after its deposition is prepared as the model's own a
   CHECK(m.report.elements_before > m.report.elements);  // the same stones as clumps
 }
 
-TEST_CASE("the largest ball any policy can make fits study, standard and paper; on mini the balls of the upper size D",
+TEST_CASE("the largest ball any policy can make fits study, standard and paper, and on mini the balls of the upper size D",
           "[railway][model][config]") {
   // The equal-volume ball of the largest template at a size, against the periodic section
   // (check_balls_fit) and the crib, the sleeper's gap to its periodic image. Standard and paper
