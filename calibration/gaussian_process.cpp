@@ -236,4 +236,17 @@ LeaveOneOut GaussianProcess::leave_one_out() const {
   return loo;
 }
 
+std::vector<GaussianProcess> fit_outputs(const std::vector<Bounds>& bounds, const Eigen::MatrixXd& points,
+                                         const Eigen::MatrixXd& values, KernelKind kind,
+                                         const HyperparameterSearch& search) {
+  if (values.rows() != points.rows())
+    throw std::invalid_argument("Gaussian process outputs: one row of values per point expected");
+  std::vector<GaussianProcess> processes;
+  for (Eigen::Index j = 0; j < values.cols(); ++j) {
+    processes.emplace_back(bounds, kind, search);
+    processes.back().fit(points, values.col(j));
+  }
+  return processes;
+}
+
 }  // namespace mfdem::calibration

@@ -99,4 +99,11 @@ class GaussianProcess final : public Surrogate {
   void factorise();
 };
 
+// Several outputs of one model (the peak force and the contact force) as independent processes on
+// the same points: column j of `values` (n x m) is fitted by the j-th process, each with its own
+// hyperparameters.
+std::vector<GaussianProcess> fit_outputs(const std::vector<Bounds>& bounds, const Eigen::MatrixXd& points,
+                                         const Eigen::MatrixXd& values, KernelKind kind = KernelKind::matern52,
+                                         const HyperparameterSearch& search = {});
+
 }  // namespace mfdem::calibration

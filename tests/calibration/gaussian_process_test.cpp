@@ -231,3 +231,22 @@ TEST_CASE("length scales are recovered from a sample of a process with known one
     CHECK(fitted(a) / truth(a) < 1.6);
   }
 }
+
+TEST_CASE("several outputs on the same points are fitted as the independent processes one by one",
+          "[calibration][gp]") {
+  const std::vector<Bounds> box = {{0.0, 0.6}, {0.05, 0.3}};
+  const Eigen::MatrixXd x = as_matrix(sobol_design(box, 12, 9));
+  Eigen::MatrixXd y(x.rows(), 2);
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    y(i, 0) = 12.0 - 4.0 * x(i, 0) + 10.0 * x(i, 1), y(i, 1) = 2.0 + std::sin(8.0 * x(i, 0)) * x(i, 1);
+  const auto both = fit_outputs(box, x, y);
+  REQUIRE(both.size() == 2);
+  for (int j = 0; j < 2; ++j) {
+    GaussianProcess alone(box);
+    alone.fit(x, y.col(j));
+    const Eigen::Vector2d at(0.3, 0.2);
+    CHECK(both[j].predict(at).mean == alone.predict(at).mean);  // bitwise: the same fit
+    CHECK(both[j].hyperparameters().length_scales == alone.hyperparameters().length_scales);
+  }
+  CHECK_THROWS_AS(fit_outputs(box, x, Eigen::MatrixXd::Zero(3, 2)), std::invalid_argument);
+}
