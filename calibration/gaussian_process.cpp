@@ -171,23 +171,54 @@ void GaussianProcess::fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& 
   std::vector<double> lower, upper;
   for (const auto& b : box) lower.push_back(b.lower), upper.push_back(b.upper);
   if (fixed_noise) upper.back() = lower.back();  // NLopt keeps a variable with equal bounds fixed
-  const auto starts = sobol_design(box, std::max(1, search_.starts));
+  auto starts = sobol_design(box, std::max(1, search_.starts));
+  const auto objective = [](const std::vector<double>& t, std::vector<double>& g, void* self) {
+    const auto* gp = static_cast<const GaussianProcess*>(self);
+    const Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
+    Eigen::VectorXd gradient;
+    const double value = gp->log_likelihood_at(theta, g.empty() ? nullptr : &gradient);
+    for (std::size_t k = 0; k < g.size(); ++k) g[k] = gradient(static_cast<Eigen::Index>(k));
+    return value;
+  };
+  if (search_.global_evaluations > 0) {
+    // DIRECT-L needs a box with some width on every axis: a fixed noise stays out of it.
+    const unsigned free = static_cast<unsigned>(fixed_noise ? d + 1 : d + 2);
+    nlopt::opt global(nlopt::GN_DIRECT_L, free);
+    global.set_lower_bounds(std::vector<double>(lower.begin(), lower.begin() + free));
+    global.set_upper_bounds(std::vector<double>(upper.begin(), upper.begin() + free));
+    global.set_maxeval(search_.global_evaluations);
+    struct Fixed {
+      const GaussianProcess* gp;
+      double noise;
+      bool fixed;
+    } context{this, lower.back(), fixed_noise};
+    global.set_max_objective(
+        [](const std::vector<double>& t, std::vector<double>&, void* data) {
+          const auto* c = static_cast<const Fixed*>(data);
+          Eigen::VectorXd theta(static_cast<Eigen::Index>(t.size() + (c->fixed ? 1 : 0)));
+          for (std::size_t k = 0; k < t.size(); ++k) theta(static_cast<Eigen::Index>(k)) = t[k];
+          if (c->fixed) theta(theta.size() - 1) = c->noise;
+          return c->gp->log_likelihood_at(theta, nullptr);
+        },
+        &context);
+    std::vector<double> point(free);
+    for (unsigned k = 0; k < free; ++k) point[k] = 0.5 * (lower[k] + upper[k]);
+    double value = 0.0;
+    try {
+      global.optimize(point, value);
+    } catch (const std::exception&) {
+      // DIRECT-L stopped early (round-off): its best point so far is a start as good as any.
+    }
+    if (fixed_noise) point.push_back(lower.back());
+    starts.insert(starts.begin(), point);
+  }
 
   nlopt::opt local(nlopt::LD_LBFGS, static_cast<unsigned>(d + 2));
   local.set_lower_bounds(lower);
   local.set_upper_bounds(upper);
   local.set_maxeval(search_.evaluations_per_start);
   local.set_ftol_rel(1e-10);
-  local.set_max_objective(
-      [](const std::vector<double>& t, std::vector<double>& g, void* self) {
-        const auto* gp = static_cast<const GaussianProcess*>(self);
-        const Eigen::VectorXd theta = Eigen::Map<const Eigen::VectorXd>(t.data(), static_cast<Eigen::Index>(t.size()));
-        Eigen::VectorXd gradient;
-        const double value = gp->log_likelihood_at(theta, g.empty() ? nullptr : &gradient);
-        for (std::size_t k = 0; k < g.size(); ++k) g[k] = gradient(static_cast<Eigen::Index>(k));
-        return value;
-      },
-      this);
+  local.set_max_objective(objective, this);
   double best = -std::numeric_limits<double>::infinity();
   std::vector<double> best_theta = starts.front();
   for (auto start : starts) {

@@ -10,8 +10,8 @@
 //   variance(x) = k(x, x) - v^T v, v = L^-1 k(X, x)                         (R&W eq. 2.26)
 //   log p(y)    = -y^T alpha / 2 - sum log L_ii - n log(2 pi) / 2           (R&W eq. 2.30)
 //   leave-one-out: mean_-i = y_i - [K^-1 y]_i / [K^-1]_ii, variance_-i = 1 / [K^-1]_ii (eq. 5.12)
-// both back in the output's units. Hyperparameters (log l_i, log s2, log s2_n) maximise log p(y)
-// with its analytic gradient (R&W eq. 5.9), from several starts.
+// both back in the output's units. Hyperparameters (log l_i, log s2, log s2_n) maximise log p(y):
+// a global search, then local searches with its analytic gradient (R&W eq. 5.9) from several starts.
 #include <Eigen/Dense>
 
 #include <optional>
@@ -37,7 +37,10 @@ struct HyperparameterSearch {
   // The noise variance's range; set both to the same value to fix it (a deterministic output:
   // 1e-10, for interpolation up to round-off).
   double smallest_noise = 1e-8, largest_noise = 1.0;
-  int starts = 8;                 // local searches from the first points of a Sobol design
+  // A global search (NLopt's DIRECT-L, derivative-free) over the box first, then local L-BFGS
+  // searches from its best point and from the first points of a Sobol design; the best is kept.
+  int global_evaluations = 300;
+  int starts = 8;
   int evaluations_per_start = 200;
 };
 
