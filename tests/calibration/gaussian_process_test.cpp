@@ -250,3 +250,43 @@ TEST_CASE("several outputs on the same points are fitted as the independent proc
   }
   CHECK_THROWS_AS(fit_outputs(box, x, Eigen::MatrixXd::Zero(3, 2)), std::invalid_argument);
 }
+
+TEST_CASE("replicates at the same points give the noise variance of their scatter", "[calibration][gp]") {
+  // 12 points x 4 replicates of 2 + 3 x + N(0, 0.05^2): the fitted noise variance is the scatter's,
+  // 0.0025, within 3 relative standard errors sqrt(2 / 36) of a variance from 36 degrees of freedom.
+  std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), gsl_rng_free);
+  gsl_rng_set(rng.get(), 7);
+  const std::vector<Bounds> box = {{0.0, 1.0}};
+  const auto design = sobol_design(box, 12, 4);
+  Eigen::MatrixXd x(48, 1);
+  Eigen::VectorXd y(48);
+  for (int i = 0; i < 48; ++i) {
+    x(i, 0) = design[i / 4][0];
+    y(i) = 2.0 + 3.0 * x(i, 0) + gsl_ran_gaussian(rng.get(), 0.05);
+  }
+  GaussianProcess gp(box);
+  gp.fit(x, y);
+  CHECK(gp.jitter() == 0.0);  // the noise makes K positive definite however the points repeat
+  CHECK_THAT(gp.notes().back(), Catch::Contains("36 points repeat"));
+  const double noise = gp.hyperparameters().noise_variance * std::pow(gp.output_scale().scale, 2);
+  CHECK(noise == Approx(0.0025).epsilon(3 * std::sqrt(2.0 / 36.0)));
+  CHECK(gp.predict(Eigen::VectorXd::Constant(1, 0.5)).mean == Approx(3.5).margin(0.03));
+}
+
+TEST_CASE("a Latin hypercube puts one point in each slice of every axis, reproducibly", "[calibration][design]") {
+  const std::vector<Bounds> box = {{0.0, 0.6}, {0.05, 0.30}};
+  const auto design = latin_hypercube(box, 10, 3);
+  CHECK(design == latin_hypercube(box, 10, 3));
+  CHECK(design != latin_hypercube(box, 10, 4));
+  for (int a = 0; a < 2; ++a) {
+    std::vector<int> in_slice(10, 0);
+    const double width = (box[a].upper - box[a].lower) / 10;
+    for (const auto& p : design) {
+      const int slice = static_cast<int>(std::floor((p[a] - box[a].lower) / width));
+      REQUIRE(slice >= 0);
+      REQUIRE(slice < 10);
+      ++in_slice[slice];
+    }
+    for (int count : in_slice) CHECK(count == 1);
+  }
+}
