@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <set>
 #include <sstream>
 
@@ -95,25 +94,21 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::strin
   return seeds;
 }
 
-StudyCount run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
-                       const std::function<void(int, int)>& after_run, std::size_t first_seed) {
-  StudyCount count;
+std::vector<std::string> run_keys(const CompareRequest& request) {
+  std::vector<std::string> keys;
+  for (std::uint64_t seed : request.seeds)
+    for (const Model& model : request.models) keys.push_back(run_key(request.config, model, seed));
+  return keys;
+}
+
+void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
+                 const std::function<void()>& after_run, std::size_t first_seed) {
   const std::size_t n = request.seeds.size();
-  const int total = static_cast<int>(n * request.models.size());
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::uint64_t seed = request.seeds[(first_seed + k) % n];
+  for (std::size_t k = 0; k < n; ++k)
     for (const Model& model : request.models) {
-      switch (ensure_push_run(store, request.config, model, seed, context)) {
-        case runs::RunStore::Outcome::computed: ++count.computed; break;
-        case runs::RunStore::Outcome::found: ++count.found; break;
-        case runs::RunStore::Outcome::busy: ++count.busy; break;
-      }
-      const auto record = store.find(run_key(request.config, model, seed));
-      if (record && !record->finished()) ++count.failed;
-      if (after_run) after_run(count.computed + count.found, total);
+      ensure_push_run(store, request.config, model, request.seeds[(first_seed + k) % n], context);
+      if (after_run) after_run();
     }
-  }
-  return count;
 }
 
 CompareTable compare_table(const runs::RunStore& store, const CompareRequest& request) {
@@ -193,6 +188,10 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
     std::vector<double> curve_differences;
     for (std::size_t s = 0; s < n_seeds; ++s) {
       if (!reference_curves[s] || !records[m][s] || !records[m][s]->finished()) continue;
+      if (m == ref) {  // its own curve: 0, not read again
+        curve_differences.push_back(0.0);
+        continue;
+      }
       const railway::ForceCurve c = railway::read_force_curve(store.run_folder(records[m][s]->key) / "push.h5");
       curve_differences.push_back(
           normalised_rms_difference(c.u, c.force, reference_curves[s]->u, reference_curves[s]->force));

@@ -27,16 +27,15 @@ struct CompareRequest {
 // config::ConfigError naming `option` and the value, also for an empty list.
 std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::string& option);
 
-struct StudyCount {
-  int computed = 0, found = 0, busy = 0, failed = 0;
-};
+// The keys of the request's runs, seed by seed, the models of a seed in their order.
+std::vector<std::string> run_keys(const CompareRequest& request);
 
 // Runs every (seed, model) of the request not yet in the store, seed by seed (each seed's
 // deposition made once, its models then), starting at the seed `first_seed` places into the list
-// (so that the processes of one study start on different seeds), and reports after each run:
-// `after_run(done, total)` gets the runs done so far (found or computed) for a progress line.
-StudyCount run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
-                       const std::function<void(int done, int total)>& after_run = {}, std::size_t first_seed = 0);
+// (so that the processes of one study start on different seeds); `after_run()` is called after
+// each (a progress line counts the store, which other processes fill too).
+void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
+                 const std::function<void()>& after_run = {}, std::size_t first_seed = 0);
 
 // One output of one model against the reference.
 struct OutputRow {

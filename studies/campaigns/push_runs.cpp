@@ -1,6 +1,7 @@
 #include "studies/campaigns/push_runs.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <chrono>
 #include <filesystem>
@@ -45,11 +46,7 @@ fs::path ensure_deposition(runs::RunStore& store, const railway::PushStudyConfig
 }
 
 double deposition_wall(const fs::path& folder) {
-  std::ifstream in(folder / "deposition.toml");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("wall_seconds = ", 0) == 0) return std::stod(line.substr(15));
-  return 0.0;
+  return toml::parse_file((folder / "deposition.toml").string())["wall_seconds"].value_or(0.0);
 }
 
 }  // namespace
@@ -173,7 +170,8 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
         push.convert = false;  // the model's own bed, made at the deposition
         push.revision = context.revision;
         push.model_origin = pack.model_origin;
-        const railway::PushOutcome pushed = railway::push_bed(*packed.packing, c, push, out);
+        const railway::PushOutcome pushed =
+            railway::push_bed(railway::load_packing(*packed.packing), *packed.packing, c, push, out);
         const railway::PushResult& r = pushed.result;
         record.labels.emplace_back("policy", r.model.policy);
         record.numbers.insert(record.numbers.end(),

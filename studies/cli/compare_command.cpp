@@ -106,17 +106,13 @@ int compare(const CompareOptions& o) {
   }
   if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
     fmt::print(std::cerr, "cleared {} runs in progress left by stopped processes\n", cleared);
+  const std::vector<std::string> keys = campaigns::run_keys(request);
   if (o.retry_failed)
-    for (std::uint64_t seed : request.seeds)
-      for (const auto& model : request.models) {
-        const auto record = store.find(campaigns::run_key(request.config, model, seed));
-        if (record && !record->finished()) store.forget(record->key);
-      }
+    for (const auto& key : keys)
+      if (const auto record = store.find(key); record && !record->finished()) store.forget(key);
+  // Polled every second while workers run: folder lookups only, no record is read.
   const auto done_in_store = [&] {
-    int done = 0;
-    for (std::uint64_t seed : request.seeds)
-      for (const auto& model : request.models) done += store.find(campaigns::run_key(request.config, model, seed)) ? 1 : 0;
-    return done;
+    return static_cast<int>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
   };
   const int done_before = done_in_store();
   if (!o.common.quiet)
@@ -139,7 +135,7 @@ int compare(const CompareOptions& o) {
     for (pid_t w : workers) waitpid(w, nullptr, 0);
   }
   // This process then (or alone) runs whatever is left: a worker's run that failed to start.
-  campaigns::run_compare(store, request, context, [&](int, int) { report(done_in_store()); });
+  campaigns::run_compare(store, request, context, [&] { report(done_in_store()); });
   progress.finish();
   store.write_index();
   const campaigns::CompareTable table = campaigns::compare_table(store, request);

@@ -47,10 +47,6 @@ struct PushOptions {
   ModelOptions model;
 };
 
-fs::path packing_file(const fs::path& given) {
-  return fs::is_directory(given) ? given / "packing.h5" : given;
-}
-
 // The config's [fidelity] with the command line's choices on top; returns where the policy came
 // from, for the messages that refuse it ("" when from the config).
 std::string apply_model_options(const ModelOptions& o, railway::PushStudyConfig& config) {
@@ -79,8 +75,8 @@ std::optional<fs::path> pack(const PackOptions& o, bool start_over = false) {
 
 int push(const PushOptions& o, const fs::path& packing_path) {
   // The packing's own config unless --config; read before any work so that a bad one stops here.
-  railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string())
-                                             : railway::load_packing(packing_file(packing_path)).config;
+  const railway::Packing packing = railway::load_packing(packing_path);
+  railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
   railway::PushRequest request;
   request.model_origin = apply_model_options(o.model, config);
   request.convert = o.model.fidelity.has_value();
@@ -90,7 +86,7 @@ int push(const PushOptions& o, const fs::path& packing_path) {
   if (o.distance_mm) request.distance = *o.distance_mm * 1e-3;
   request.check_rate = o.check_rate;
   request.revision = git_revision();
-  const railway::PushOutcome outcome = railway::push_bed(packing_path, config, request, std::cout);
+  const railway::PushOutcome outcome = railway::push_bed(packing, packing_path, config, request, std::cout);
   return outcome.finished() ? 0 : kUnstable;
 }
 
@@ -198,7 +194,7 @@ void add_push_commands(CLI::App& app, Action& action) {
                                               "the packing's (pack another seed with 'mfdem pack --seed')",
                                               push_options->common.seed));
       apply_thread_count(push_options->common);
-      return guarded([&] { return push(*push_options, packing_file(push_options->packing)); });
+      return guarded([&] { return push(*push_options, railway::packing_file(push_options->packing)); });
     };
   });
 

@@ -24,8 +24,6 @@ constexpr double kRiseWarning = 2e-3;  // m: a re-settling that lifts the sleepe
 constexpr double kFastestPush = 10.0;   // m/s
 constexpr double kLongestPush = 1e4;    // s
 
-fs::path packing_file(const fs::path& given) { return fs::is_directory(given) ? given / "packing.h5" : given; }
-
 // The policy checked against a bed whose sleeper base lies `scale` above the floor; a bad one is
 // a config error naming the option or the config key that gave it.
 fidelity::Policy checked_policy(const PushStudyConfig& config, const std::string& origin,
@@ -42,9 +40,10 @@ fidelity::Policy checked_policy(const PushStudyConfig& config, const std::string
 
 // What a push leaves in its folder (push_output.hpp): an earlier push's are removed before a new
 // one starts, so that no file of it stands beside the new run's as if it were the new run's.
-const char* const kPushOutputs[] = {"push.h5",          "push_summary.toml", "push_state.h5", "push_state.xdmf",
-                                    "rate_check.toml",  "half_velocity",     "model_packing.h5",
-                                    "model_packing.xdmf", "resettle.h5",     "resettle.xdmf"};
+const std::vector<std::string> kPushOutputs = {"push.h5",          "push_summary.toml", "push_state.h5",
+                                                "push_state.xdmf",  "rate_check.toml",   "half_velocity",
+                                                "model_packing.h5", "model_packing.xdmf", "resettle.h5",
+                                                "resettle.xdmf"};
 
 void remove_earlier(const fs::path& directory, const std::vector<std::string>& names, bool quiet, std::ostream& out) {
   int removed = 0;
@@ -52,8 +51,6 @@ void remove_earlier(const fs::path& directory, const std::vector<std::string>& n
   if (removed > 0 && !quiet)
     fmt::print(out, "Replacing the earlier results in {} ({} files removed first)\n", directory.string(), removed);
 }
-
-std::vector<std::string> push_outputs() { return {std::begin(kPushOutputs), std::end(kPushOutputs)}; }
 
 // Written beside `path` and renamed over it: a reader sees the old file or the whole new one.
 template <class Write>
@@ -72,6 +69,8 @@ void warn_unsettled(const PreparationReport& report) {
 }
 
 }  // namespace
+
+fs::path packing_file(const fs::path& given) { return fs::is_directory(given) ? given / "packing.h5" : given; }
 
 void print_preparation(std::ostream& out, const Packing& p, const PreparationReport& r) {
   const std::string origin = r.continued_from.empty()
@@ -127,7 +126,7 @@ PackOutcome pack_bed(const PushStudyConfig& config, const PackRequest& request, 
   // checked, before any work: a push of the folder must never find the old bed while the new one
   // is being made, and a refused command must leave the folder as it was.
   control.before_work = [&] {
-    std::vector<std::string> earlier = push_outputs();
+    std::vector<std::string> earlier = kPushOutputs;
     earlier.insert(earlier.end(), {"packing.h5", "packing.xdmf"});
     remove_earlier(request.out, earlier, request.quiet, out);
   };
@@ -172,10 +171,8 @@ void check_push_motion(double velocity, double distance, double record_interval,
            fmt::format("s; expected at most {:.0e} s of simulated time", kLongestPush));
 }
 
-PushOutcome push_bed(const fs::path& given_path, const PushStudyConfig& given_config, const PushRequest& request,
-                     std::ostream& out) {
-  const fs::path packing_path = packing_file(given_path);
-  const Packing packing = load_packing(packing_path);
+PushOutcome push_bed(const Packing& packing, const fs::path& packing_path, const PushStudyConfig& given_config,
+                     const PushRequest& request, std::ostream& out) {
   PushStudyConfig config = given_config;
   // A model's own bed (made by `mfdem pack` with a policy) is pushed as it is, unless asked.
   if (!packing.model.empty() && !request.convert) config.fidelity.policy = kReferencePolicy;
@@ -194,7 +191,7 @@ PushOutcome push_bed(const fs::path& given_path, const PushStudyConfig& given_co
   check_push_motion(run.velocity, run.distance, config.push.record_interval, given);
   run.quiet = request.quiet;
   fs::create_directories(request.out);
-  remove_earlier(request.out, push_outputs(), request.quiet, out);
+  remove_earlier(request.out, kPushOutputs, request.quiet, out);
   // Until the push ends its summary says so: a folder of a killed run is visibly partial.
   write_whole(request.out / "push_summary.toml", [&](const fs::path& p) {
     std::ofstream running(p);

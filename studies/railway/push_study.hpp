@@ -66,13 +66,16 @@ struct PushOutcome {
   }
 };
 
-// Pushes the sleeper of the packing in `packing_path` with the materials, guards, push settings
-// and model of `config`. Throws config::ConfigError for a bad policy or push setting (before any
-// work) and dem::StabilityError when the re-settling turns unstable (out/resettle.h5 keeps its
-// last good state); an unstable push returns its result up to the last good state, status
-// "unstable".
-PushOutcome push_bed(const std::filesystem::path& packing_path, const PushStudyConfig& config,
-                     const PushRequest& request, std::ostream& out);
+// The packing file a command is given: packing.h5 itself, or the directory `mfdem pack` wrote.
+std::filesystem::path packing_file(const std::filesystem::path& given);
+
+// Pushes the sleeper of `packing` (loaded from `packing_path`, whose stage reports a model's
+// record reads) with the materials, guards, push settings and model of `config`. Throws
+// config::ConfigError for a bad policy or push setting (before any work) and dem::StabilityError
+// when the re-settling turns unstable (out/resettle.h5 keeps its last good state); an unstable
+// push returns its result up to the last good state, status "unstable".
+PushOutcome push_bed(const Packing& packing, const std::filesystem::path& packing_path,
+                     const PushStudyConfig& config, const PushRequest& request, std::ostream& out);
 
 // Checks a push's velocity and distance before any work: finite, the velocity positive, the
 // distance at least one record interval (run_push checks that the step count they make is one the

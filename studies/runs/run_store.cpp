@@ -32,21 +32,24 @@ std::string host_name() {
   return host;
 }
 
-// A claim or work folder of this host whose process no longer runs.
-bool dead_here(const std::string& host, long pid) {
-  return host == host_name() && pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+// The process a claim or a work folder belongs to.
+struct Owner {
+  std::string host;
+  long pid = 0;
+};
+
+Owner this_process() { return {host_name(), static_cast<long>(getpid())}; }
+
+// A claim file holds "HOST PID".
+Owner claim_owner(const fs::path& file) {
+  Owner owner;
+  std::ifstream(file) >> owner.host >> owner.pid;
+  return owner;
 }
 
-// TOML basic strings: quotes, backslashes and control characters escaped.
-std::string quoted(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\u{:04x}", static_cast<int>(c));
-    else out += c;
-  }
-  return out + "\"";
+// Of this host, and its process no longer runs.
+bool dead_here(const Owner& o) {
+  return o.host == host_name() && o.pid > 0 && kill(static_cast<pid_t>(o.pid), 0) != 0 && errno == ESRCH;
 }
 
 // A CSV field: quoted when it holds a comma, a quote or a line break.
@@ -61,7 +64,7 @@ void write_readme(const fs::path& file) {
   std::ofstream out(file);
   out << "# An mfdem run store (studies/runs/run_store.hpp): runs/KEY/run.toml is each run's record,\n"
          "# index.csv a table of them rebuilt from the folders; work/ and claims/ hold runs in progress.\n"
-      << "format = " << quoted(kFormat) << "\n";
+      << toml::table{{"format", kFormat}} << "\n";
 }
 
 }  // namespace
@@ -86,13 +89,13 @@ std::string folder_name(const std::string& text) {
 }
 
 void write_record(const fs::path& file, const RunRecord& r) {
+  toml::table labels, numbers;
+  for (const auto& [name, value] : r.labels) labels.insert_or_assign(name, value);
+  for (const auto& [name, value] : r.numbers) numbers.insert_or_assign(name, value);  // shortest round-trip form
+  const toml::table record{{"key", r.key},         {"status", r.status}, {"message", r.message},
+                           {"revision", r.revision}, {"labels", labels},   {"numbers", numbers}};
   std::ofstream out(file);
-  out << "# mfdem run record (studies/runs/run_store.hpp)\n"
-      << "key = " << quoted(r.key) << "\nstatus = " << quoted(r.status) << "\nmessage = " << quoted(r.message)
-      << "\nrevision = " << quoted(r.revision) << "\n\n[labels]\n";
-  for (const auto& [name, value] : r.labels) out << name << " = " << quoted(value) << "\n";
-  out << "\n[numbers]\n";
-  for (const auto& [name, value] : r.numbers) out << name << " = " << fmt::format("{:.17g}", value) << "\n";
+  out << "# mfdem run record (studies/runs/run_store.hpp)\n" << record << "\n";
   if (!out) throw std::runtime_error(fmt::format("{}: could not be written", file.string()));
 }
 
@@ -152,15 +155,17 @@ fs::path RunStore::work_folder(const std::string& key) const {
   return root_ / "work" / fmt::format("{}.{}.{}", key, host_name(), getpid());
 }
 
+bool RunStore::has(const std::string& key) const { return fs::exists(run_folder(key) / "run.toml"); }
+
 std::optional<RunRecord> RunStore::find(const std::string& key) const {
-  const fs::path file = run_folder(key) / "run.toml";
-  if (!fs::exists(file)) return std::nullopt;
-  return read_record(file);
+  if (!has(key)) return std::nullopt;
+  return read_record(run_folder(key) / "run.toml");
 }
 
 bool RunStore::claim(const std::string& key) const {
   const fs::path file = root_ / "claims" / key;
-  const std::string mine = fmt::format("{} {}\n", host_name(), getpid());
+  const Owner me = this_process();
+  const std::string mine = fmt::format("{} {}\n", me.host, me.pid);
   for (int attempt = 0; attempt < 2; ++attempt) {
     const int fd = ::open(file.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0644);
     if (fd >= 0) {
@@ -169,22 +174,15 @@ bool RunStore::claim(const std::string& key) const {
       return written;
     }
     if (errno != EEXIST) return false;
-    std::ifstream in(file);
-    std::string host;
-    long pid = 0;
-    in >> host >> pid;
-    if (!dead_here(host, pid)) return false;
+    if (!dead_here(claim_owner(file))) return false;
     fs::remove(file);  // its process died: take it over (a race here costs a duplicate run at worst)
   }
   return false;
 }
 
 void RunStore::release_if_mine(const std::string& key) const {
-  std::ifstream in(root_ / "claims" / key);
-  std::string host;
-  long pid = 0;
-  in >> host >> pid;
-  if (host == host_name() && pid == static_cast<long>(getpid())) release(key);
+  const Owner owner = claim_owner(root_ / "claims" / key), me = this_process();
+  if (owner.host == me.host && owner.pid == me.pid) release(key);
 }
 
 void RunStore::release(const std::string& key) const {
@@ -208,10 +206,10 @@ bool RunStore::publish(const fs::path& work, const fs::path& target) const {
 RunStore::Outcome RunStore::ensure(const std::string& key, const std::string& revision,
                                    const std::function<RunRecord(const fs::path&)>& compute,
                                    const std::function<bool(const std::exception&)>& rethrow) {
-  if (find(key)) return Outcome::found;
-  if (!claim(key)) return find(key) ? Outcome::found : Outcome::busy;
+  if (has(key)) return Outcome::found;
+  if (!claim(key)) return has(key) ? Outcome::found : Outcome::busy;
   // Published between our look and our claim by a process that has released it since.
-  if (find(key)) {
+  if (has(key)) {
     release(key);
     return Outcome::found;
   }
@@ -316,22 +314,16 @@ int RunStore::clear_abandoned() const {
     if (last == std::string::npos) continue;
     const auto before = name.rfind('.', last - 1);
     if (before == std::string::npos) continue;
-    const std::string host = name.substr(before + 1, last - before - 1);
-    long pid = 0;
+    Owner owner{name.substr(before + 1, last - before - 1), 0};
     try {
-      pid = std::stol(name.substr(last + 1));
+      owner.pid = std::stol(name.substr(last + 1));
     } catch (const std::exception&) {
       continue;
     }
-    if (dead_here(host, pid)) cleared += fs::remove_all(entry.path()) > 0 ? 1 : 0;
+    if (dead_here(owner)) cleared += fs::remove_all(entry.path()) > 0 ? 1 : 0;
   }
-  for (const auto& entry : fs::directory_iterator(root_ / "claims")) {
-    std::ifstream in(entry.path());
-    std::string host;
-    long pid = 0;
-    in >> host >> pid;
-    if (dead_here(host, pid)) cleared += fs::remove(entry.path()) ? 1 : 0;
-  }
+  for (const auto& entry : fs::directory_iterator(root_ / "claims"))
+    if (dead_here(claim_owner(entry.path()))) cleared += fs::remove(entry.path()) ? 1 : 0;
   return cleared;
 }
 

@@ -62,6 +62,8 @@ class RunStore {
 
   // The published record of `key`, if any.
   std::optional<RunRecord> find(const std::string& key) const;
+  // Whether `key` is published (finished or failed), without reading its record.
+  bool has(const std::string& key) const;
 
   enum class Outcome { computed, found, busy };
   // The run `key`: found when published; busy when another live process has claimed it;
