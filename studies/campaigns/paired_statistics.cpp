@@ -42,6 +42,17 @@ Verdict verdict(const MeanInterval& d, double tolerance) {
   return Verdict::undecided;
 }
 
+double interpolate_curve(const std::vector<double>& u, const std::vector<double>& f, double at) {
+  if (u.empty() || u.size() != f.size()) throw std::invalid_argument("interpolate_curve: empty, or u and F of different lengths");
+  const auto above = std::upper_bound(u.begin(), u.end(), at);
+  if (above == u.begin()) return f.front();
+  if (above == u.end()) return f.back();
+  const std::size_t j = static_cast<std::size_t>(above - u.begin()) - 1;
+  if (u[j + 1] <= u[j]) return f[j];
+  const double w = (at - u[j]) / (u[j + 1] - u[j]);
+  return (1.0 - w) * f[j] + w * f[j + 1];
+}
+
 double normalised_rms_difference(const std::vector<double>& um, const std::vector<double>& fm,
                                  const std::vector<double>& ur, const std::vector<double>& fr) {
   if (um.size() != fm.size() || ur.size() != fr.size())
@@ -50,14 +61,9 @@ double normalised_rms_difference(const std::vector<double>& um, const std::vecto
   const double peak = *std::max_element(fr.begin(), fr.end());
   const double u_last = std::min(um.back(), ur.back());
   double sum = 0.0;
-  std::size_t n = 0, j = 0;
+  std::size_t n = 0;
   for (std::size_t k = 0; k < ur.size() && ur[k] <= u_last; ++k) {
-    while (j + 1 < um.size() && um[j + 1] < ur[k]) ++j;
-    double f = fm[j];
-    if (j + 1 < um.size() && um[j + 1] > um[j] && ur[k] >= um[j]) {
-      const double w = (ur[k] - um[j]) / (um[j + 1] - um[j]);
-      f = (1.0 - w) * fm[j] + w * fm[j + 1];
-    }
+    const double f = interpolate_curve(um, fm, ur[k]);
     sum += (f - fr[k]) * (f - fr[k]);
     ++n;
   }

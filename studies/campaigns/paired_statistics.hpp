@@ -32,6 +32,10 @@ enum class Verdict { within, outside, undecided };
 // undecided (more seeds would tell).
 Verdict verdict(const MeanInterval& difference, double tolerance);
 
+// F of a sampled curve at u = at, linearly interpolated between the samples around it (u
+// ascending), held at the first and last sample outside them.
+double interpolate_curve(const std::vector<double>& u, const std::vector<double>& f, double at);
+
 // Normalised RMS difference of two F(u) curves: the model's F, linearly interpolated at the
 // reference's samples within the u both cover, against the reference's F, as
 // sqrt(mean (F_m - F_r)^2) / max F_r. 0 for identical curves.

@@ -16,7 +16,9 @@
 #include <thread>
 
 #include "studies/campaigns/compare.hpp"
+#include "studies/campaigns/compare_figures.hpp"
 #include "studies/cli/common_options.hpp"
+#include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
@@ -41,6 +43,7 @@ struct CompareOptions {
   int jobs = 2;
   double tolerance = 5.0;  // %
   bool retry_failed = false;
+  bool figures = true;
   int worker = 0;          // > 0: the k-th process of --jobs: runs, prints no table
 };
 
@@ -146,6 +149,16 @@ int compare(const CompareOptions& o) {
     campaigns::print_compare_table(std::cout, table);
     fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), (o.common.out / "index.csv").string());
   }
+  if (o.figures) {
+    const fs::path data = o.common.out / "figures.h5";
+    if (campaigns::write_compare_figure_data(data, store, request)) {
+      std::vector<std::string> args = {o.common.out.string()};
+      if (o.common.quiet) args.push_back("--quiet");
+      draw_figures("compare_figures", args);
+    } else {
+      fmt::print(std::cerr, "mfdem: no figures: the reference has no finished run\n");
+    }
+  }
   const int missing = total - done_in_store();
   if (missing > 0)
     fmt::print(std::cerr, "mfdem: {} runs are still being computed by other processes; run the same command again "
@@ -176,13 +189,15 @@ void add_compare_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   command->add_flag("--retry-failed", o->retry_failed, "Compute the runs recorded as failed again");
+  command->add_flag("!--no-figures", o->figures, "Write the tables only (no figures.h5, no PNG/SVG)");
   command->add_option("--worker", o->worker)->group("");  // a process of --jobs
   add_common_options(*command, o->common);
   command->footer(
       "Every model of a seed starts from the same deposited bed (made once, kept in OUT/shared/), so the\n"
       "differences are paired by seed. Each run is a folder OUT/runs/KEY (push.h5, push_summary.toml,\n"
       "packing.h5, run.toml); the same command again computes only what is missing. Writes\n"
-      "OUT/compare.md, OUT/compare.csv and OUT/index.csv (docs/compare.md).");
+      "OUT/compare.md, OUT/compare.csv and OUT/index.csv, and the figures (OUT/figures/*.png and .svg,\n"
+      "drawn from OUT/figures.h5 by studies/python/mfdem/compare_figures.py; docs/compare.md).");
   command->callback([o, &action] {
     action = [o] {
       if (o->common.seed_given)

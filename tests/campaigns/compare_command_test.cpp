@@ -80,9 +80,18 @@ TEST_CASE("compare: the same table on 1 and 2 threads and with two processes, an
   CHECK_THAT(first.out, Contains("Cost") && Contains("Accuracy") && Contains("Verdict"));
   // Two worker processes of two threads each, into another store.
   const auto second = run_mfdem({"compare", config.string(), "--models", kModels, "--seeds", "1", "--out", two,
-                                 "--jobs", "2", "--threads", "2"});
+                                 "--jobs", "2", "--threads", "2", "--no-figures"});
   INFO(second.err);
   REQUIRE(second.status == 0);
+  CHECK_FALSE(fs::exists(two + "/figures.h5"));  // --no-figures
+  // The figures: their numbers from the C++, drawn by studies/python/mfdem (Debian's matplotlib,
+  // which the quick start installs).
+  CHECK(fs::exists(one + "/figures.h5"));
+  for (const char* figure : {"force_displacement", "displacement_section", "force_chains", "speedup_error"})
+    for (const char* type : {".png", ".svg"}) {
+      CAPTURE(figure, type);
+      CHECK(fs::file_size(fs::path(one) / "figures" / (std::string(figure) + type)) > 1000);
+    }
   const std::string table = without_wall_times(text_of(one + "/compare.csv"));
   CHECK(table == without_wall_times(text_of(two + "/compare.csv")));
   // The model that converts nothing differs from the reference by exactly zero on every output.

@@ -1,0 +1,175 @@
+"""The four figures of `mfdem compare`, drawn from OUT/figures.h5 and OUT/compare.csv.
+
+    PYTHONPATH=studies/python /usr/bin/python3 -m mfdem.compare_figures OUT [--quiet]
+
+Writes OUT/figures/{force_displacement, displacement_section, force_chains, speedup_error}.png
+and .svg. `mfdem compare` calls it at its end; every number drawn was computed by it.
+"""
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import matplotlib.pyplot as plt
+from matplotlib.collections import EllipseCollection, LineCollection
+from matplotlib.colors import Normalize
+
+from mfdem import figures, files
+
+
+def seeds_text(n) -> str:
+    n = int(n)
+    return f"{n} seed" + ("s" if n != 1 else "")
+
+
+def force_displacement(data, config, out, quiet):
+    curves = [c for c in data["curves"] if len(c["u"])]
+    scale, unit = figures.force_unit(max(c["high"].max() for c in curves))
+    colours = figures.model_colours(len(data["curves"]))
+    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
+    for c, colour in zip(data["curves"], colours):
+        if not len(c["u"]):
+            continue
+        u = c["u"] * 1e3
+        ax.fill_between(u, c["low"] * scale, c["high"] * scale, color=colour, alpha=0.15, lw=0)
+        ax.plot(u, c["mean"] * scale, color=colour, lw=1.6, label=f"{c['model']} ({seeds_text(c['seeds'])})")
+    ax.set_xlabel("sleeper displacement u (mm)")
+    ax.set_ylabel(f"lateral force on the sleeper F ({unit})")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right", title="model (the first is the reference)", title_fontsize=8)
+    ax.set_title(f"{config}: lateral resistance F(u), the mean over the seeds;\n"
+                 "band: the lowest to the highest seed at each u", fontsize=10)
+    return figures.save(fig, out / "force_displacement", quiet)
+
+
+def section_panels(data, title):
+    s = data["section"]
+    views = data["views"]
+    width = 11.0
+    ratio = (s["z_max"] - s["z_min"]) / (s["x_max"] - s["x_min"])
+    fig, axes = plt.subplots(len(views), 1, figsize=(width, 0.9 + len(views) * (width * 0.82 * ratio + 0.45)),
+                             constrained_layout=True, squeeze=False)
+    axes = axes[:, 0]
+    for ax, v in zip(axes, views):
+        ax.set_xlim(s["x_min"], s["x_max"])
+        ax.set_ylim(s["z_min"], s["z_max"])
+        ax.set_aspect("equal")
+        ax.set_title(v["model"], fontsize=9, loc="left")
+        ax.set_ylabel("z (m)")
+        figures.sleeper_outline(ax, s["sleeper_x0"], s["sleeper_x1"], s["sleeper_z0"], s["sleeper_z1"])
+    axes[-1].set_xlabel("x across the track (m); the sleeper pushed towards +x")
+    fig.suptitle(title, fontsize=10)
+    return fig, axes
+
+
+def slab_text(s, what="the stones whose centres lie") -> str:
+    return (f"seed {int(s['seed'])}: {what} within {s['slab_half_width'] * 1e3:.0f} mm of the vertical plane "
+            "through the sleeper's centre, seen along the track")
+
+
+def displacement_section(data, config, out, quiet):
+    s = data["section"]
+    clip_mm = max(s["displacement_clip"] * 1e3, 1e-6)
+    fig, axes = section_panels(
+        data, f"{config}: stone displacement over the push, at u_end;\n{slab_text(s)}, each a disc of 70 % of its "
+              "sieve size (the slab's stones overlap in projection)")
+    norm = Normalize(0.0, clip_mm)
+    mappable = None
+    for ax, v in zip(axes, data["views"]):
+        if not len(v["x"]):
+            continue
+        discs = EllipseCollection(1.4 * v["radius"], 1.4 * v["radius"], np.zeros_like(v["x"]), units="xy",
+                                  offsets=np.column_stack([v["x"], v["z"]]), offset_transform=ax.transData,
+                                  array=np.minimum(v["displacement"] * 1e3, clip_mm), cmap="viridis", norm=norm,
+                                  edgecolors="0.3", linewidths=0.2)
+        ax.add_collection(discs)
+        mappable = discs
+    if mappable is not None:
+        fig.colorbar(mappable, ax=list(axes), extend="max", shrink=0.9, aspect=35,
+                     label=f"displacement (mm); one scale, clipped at the {100 * s['clip_percentile']:.0f}th "
+                           f"percentile of all panels ({clip_mm:.2f} mm)")
+    return figures.save(fig, out / "displacement_section", quiet)
+
+
+def force_chains(data, config, out, quiet):
+    s = data["section"]
+    scale, unit = figures.force_unit(s["largest_chain_force"])
+    clip = max(s["chain_clip"], s["chain_threshold"], 1e-12)
+    fig, axes = section_panels(
+        data, f"{config}: force chains at u_end; {slab_text(s, 'the stone-stone contacts')},\ncarrying at least "
+              f"{s['chain_threshold'] * scale:.3g} {unit} (the reference's mean contact force), each a line between "
+              "the two stones' centres, width and colour by force on one scale")
+    norm = Normalize(s["chain_threshold"] * scale, clip * scale)
+    mappable = None
+    for ax, v in zip(axes, data["views"]):
+        if not len(v["force"]):
+            continue
+        order = np.argsort(v["force"])  # the strongest drawn last, on top
+        segments = np.stack([np.column_stack([v["x1"], v["z1"]]), np.column_stack([v["x2"], v["z2"]])], axis=1)
+        lines = LineCollection(segments[order], linewidths=0.6 + 3.4 * np.minimum(v["force"][order] / clip, 1.0),
+                               array=np.minimum(v["force"][order], clip) * scale, cmap="inferno_r", norm=norm)
+        ax.add_collection(lines)
+        mappable = lines
+    if mappable is not None:
+        fig.colorbar(mappable, ax=list(axes), extend="max", shrink=0.9, aspect=35,
+                     label=f"contact force ({unit}); clipped at the {100 * s['clip_percentile']:.0f}th percentile "
+                           f"of the chains drawn ({clip * scale:.3g} {unit}; largest {s['largest_chain_force'] * scale:.3g})")
+    return figures.save(fig, out / "force_chains", quiet)
+
+
+def speedup_error(rows, config, seeds, out, quiet, tolerance):
+    fig = plt.figure(figsize=(11, 5.6), constrained_layout=True)
+    grid = fig.add_gridspec(2, 2, height_ratios=[1, 0.22])
+    axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
+    legend_ax = fig.add_subplot(grid[1, :])
+    legend_ax.axis("off")
+    outputs = [("peak_force", "peak lateral force", "peak"), ("max_contact_force", "maximum contact force", "contact")]
+    colours = figures.model_colours(len(rows))
+    reference = next(r for r in rows if r["reference"] == 1)
+    ordered = [reference] + [r for r in rows if r is not reference]
+    for ax, (column, name, paper_key) in zip(axes, outputs):
+        ax.axhspan(-100 * tolerance, 100 * tolerance, color="green", alpha=0.08, lw=0,
+                   label=f"within {100 * tolerance:.0f} %")
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        for r, colour in zip(ordered, colours):
+            x, y = r["total_speedup"], 100 * r[f"{column}_diff"]
+            if not np.isfinite(x) or not np.isfinite(y):
+                continue
+            low, high = 100 * r[f"{column}_diff_low"], 100 * r[f"{column}_diff_high"]
+            yerr = None if not (np.isfinite(low) and np.isfinite(high)) else [[y - low], [high - y]]
+            ax.errorbar([x], [y], yerr=yerr, fmt="o", color=colour, capsize=4, ms=6, label=r["model"])
+        ax.plot([figures.PAPER_POINT["speedup"]], [100 * figures.PAPER_POINT[paper_key]], marker="*", ms=12,
+                color="0.4", ls="none", label=figures.PAPER_POINT["label"])
+        ax.set_xlabel("speedup (x): reference wall time / model's, re-settling + push")
+        ax.set_ylabel(f"difference from the reference (%)")
+        ax.set_title(name, fontsize=10)
+        ax.set_xlim(0, max(3.0, 1.1 * max(r["total_speedup"] for r in rows if np.isfinite(r["total_speedup"]))))
+        ax.grid(alpha=0.3)
+    handles, labels = axes[0].get_legend_handles_labels()
+    legend_ax.legend(handles, labels, loc="center", ncol=2, fontsize=8, frameon=False)
+    fig.suptitle(f"{config}: what each model saved and what it cost, {seeds_text(seeds)}; the mean paired "
+                 "difference\nwith its 95 % Student-t interval over the seeds (none with one seed)", fontsize=10)
+    return figures.save(fig, out / "speedup_error", quiet)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path, help="the folder of an `mfdem compare` study")
+    parser.add_argument("--quiet", action="store_true")
+    args = parser.parse_args(argv)
+    data = files.read_compare_figures(args.out)
+    rows = files.read_csv(args.out / "compare.csv")
+    config = data["labels"]["config"]
+    seeds = data["labels"]["seeds"]
+    target = args.out / "figures"
+    force_displacement(data, config, target, args.quiet)
+    displacement_section(data, config, target, args.quiet)
+    force_chains(data, config, target, args.quiet)
+    speedup_error(rows, config, seeds, target, args.quiet, data["labels"]["tolerance"])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,37 @@
+"""Figure helpers shared by every drawing script: saving, colours, units, the sleeper."""
+from pathlib import Path
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+PAPER_POINT = {"speedup": 2.75, "peak": -0.175, "contact": -0.28,
+               "label": "paper (Table 2): 2.75x, -17.5 % / -28 %"}
+
+
+def save(fig, stem, quiet: bool = False) -> list:
+    """Writes STEM.png (150 dpi) and STEM.svg; returns the paths."""
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    paths = [stem.with_suffix(".png"), stem.with_suffix(".svg")]
+    for p in paths:
+        fig.savefig(p, dpi=150)
+    plt.close(fig)
+    if not quiet:
+        print(f"  wrote {paths[0]} (and .svg)")
+    return paths
+
+
+def model_colours(n: int) -> list:
+    """The reference black, the others from a qualitative map in their order."""
+    cycle = plt.get_cmap("tab10").colors
+    return ["black"] + [cycle[k % len(cycle)] for k in range(n - 1)]
+
+
+def force_unit(largest_newtons: float):
+    """(scale, unit): kN for a full-size bed, N for a miniature one."""
+    return (1e-3, "kN") if largest_newtons >= 1e3 else (1.0, "N")
+
+
+def sleeper_outline(ax, x0, x1, z0, z1, **style) -> None:
+    ax.add_patch(plt.Rectangle((x0, z0), x1 - x0, z1 - z0, fill=False, lw=1.5, ec="k", **style))
