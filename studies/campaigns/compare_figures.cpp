@@ -10,6 +10,7 @@
 
 #include "dem/hdf5_io.hpp"
 #include "studies/campaigns/paired_statistics.hpp"
+#include "studies/railway/push_test.hpp"
 
 namespace mfdem::campaigns {
 namespace {
@@ -77,15 +78,6 @@ EndState read_end_state(const RunFiles& run) {
     throw std::runtime_error(fmt::format("{} holds {} stones, {} of the same run {}", run.packing.string(),
                                          s.size.size(), run.push.string(), s.position.size()));
   return s;
-}
-
-// Nearest-rank quantile of a copy of `v` (0 for an empty v).
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const std::size_t rank = static_cast<std::size_t>(std::ceil(q * double(v.size())));
-  const std::size_t k = std::min(v.size() - 1, rank > 0 ? rank - 1 : 0);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
 }
 
 }  // namespace
@@ -182,8 +174,8 @@ Sections section_views(std::uint64_t seed, const std::vector<RunFiles>& runs) {
     }
     sections.models.push_back(std::move(view));
   }
-  sections.displacement_clip = quantile(all_displacements, sections.clip_percentile);
-  sections.chain_clip = quantile(all_chains, sections.clip_percentile);
+  sections.displacement_clip = railway::nearest_rank_quantile(all_displacements, sections.clip_percentile);
+  sections.chain_clip = railway::nearest_rank_quantile(all_chains, sections.clip_percentile);
   return sections;
 }
 
@@ -265,6 +257,13 @@ bool write_compare_figure_data(const fs::path& path, const runs::RunStore& store
   write_figure_data(path, {request.config.name, request.seeds.size(), request.tolerance}, curves,
                     section_views(*section_seed, section_runs));
   return true;
+}
+
+void write_push_figure_data(const fs::path& path, const std::string& title, std::uint64_t seed,
+                            const std::vector<RunFiles>& runs) {
+  std::vector<CurveBand> curves;
+  for (const auto& run : runs) curves.push_back(curve_band(run.model, {railway::read_force_curve(run.push)}));
+  write_figure_data(path, {title, 1, 0.05}, curves, section_views(seed, runs));
 }
 
 }  // namespace mfdem::campaigns

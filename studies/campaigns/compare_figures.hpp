@@ -84,4 +84,9 @@ void write_figure_data(const std::filesystem::path& path, const FigureLabels& la
 bool write_compare_figure_data(const std::filesystem::path& path, const runs::RunStore& store,
                                const CompareRequest& request);
 
+// The same data for pushes outside a store (`mfdem plot`): each run its own curve (one seed), the
+// first run the reference of the sections; `seed` names the runs' seed in the section's title.
+void write_push_figure_data(const std::filesystem::path& path, const std::string& title, std::uint64_t seed,
+                            const std::vector<RunFiles>& runs);
+
 }  // namespace mfdem::campaigns

@@ -121,6 +121,19 @@ TEST_CASE("compare: the same table on 1 and 2 threads and with two processes, an
   }
   REQUIRE(peak_reference);
   CHECK(peak_same == peak_reference);  // bitwise
+  // `mfdem plot` of two of the store's runs: the push figures, drawn by the same package.
+  const fs::path plotted = dir.path() / "plot";
+  const auto plot = run_mfdem({"plot", (store.run_folder(records[0].key)).string(),
+                               (store.run_folder(records[1].key)).string(), "--out", plotted.string(), "-q"});
+  INFO(plot.err);
+  CHECK(plot.status == 0);
+  for (const char* figure : {"force_displacement", "resistance_by_face", "displacement_section", "force_chains"}) {
+    CAPTURE(figure);
+    CHECK(fs::file_size(plotted / "figures" / (std::string(figure) + ".png")) > 1000);
+  }
+  const auto no_push = run_mfdem({"plot", dir.path().string(), "--out", plotted.string()});
+  CHECK(no_push.status == 2);
+  CHECK_THAT(no_push.err, Contains("no push.h5"));
   // Again: everything is found, nothing computed (no record is written anew).
   std::vector<fs::file_time_type> stamps;
   for (const auto& r : records) stamps.push_back(fs::last_write_time(store.run_folder(r.key) / "run.toml"));

@@ -31,18 +31,19 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
-# The helpers shared with the other benchmarks live in ../bench_common.py; this script is run as
-# a file, not as part of a package, so their folder goes on the import path. The same folder
-# makes the sphere benchmark's script importable, for its scene (target b).
+# The helpers shared with the other benchmarks live in the mfdem package (studies/python/mfdem/
+# bench.py); this script is run as a file, so the package's folder goes on the import path, and
+# the benchmarks' folder too: the sphere benchmark's script gives the scene of target (b).
+sys.path.insert(0, str(HERE.parents[1] / "python"))  # the mfdem package
 sys.path.insert(0, str(HERE.parent))
-from bench_common import (  # noqa: E402  (needs the path above)
+from mfdem.bench import (  # noqa: E402  (needs the path above)
     BETA, DENSITY, KN, KT, MU, REPO, BenchmarkError, add_machine_options, add_run_options,
     closing_sections, command_line, contact_law_checks, fill_quick_defaults, fmt_millions, log,
     loop_steps, max_ranks, mfdem_env, mpi_prefix, mpirun, package_version, parallel_notes,
     peer_env, provenance_lines, publish_report, rel, repo_path, report_path, require_time_tool,
     require_values, run_main, run_mfdem, run_peer_timed, set_toml_value, summarise, tail,
     timestamp, var_args, wait_until_idle)
-from clump_export import read_bed, write_clumps  # noqa: E402
+from mfdem.clump_export import read_bed, write_clumps  # noqa: E402
 from sphere_bed import run_benchmark as sphere_bench  # noqa: E402
 
 try:
@@ -52,7 +53,7 @@ except ImportError as exc:  # the pyenv python3 first on PATH has neither
     sys.exit(f"run_benchmark.py: error: {exc}; run it with /usr/bin/python3 (Debian's, with "
              "python3-h5py and python3-numpy)")
 
-# --- the scene (fixed by the benchmark issue; contact law and density in bench_common) ------
+# --- the scene (fixed by the benchmark issue; contact law and density in mfdem.bench) ------
 SIZE = 0.045               # m, sieve size d of every stone
 DT = 1.0e-5                # s, timed runs
 SKIN = 0.004               # m, neighbour skin of all three codes in the timed runs

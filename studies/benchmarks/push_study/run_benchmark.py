@@ -25,15 +25,14 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
-sys.path.insert(0, str(HERE.parents[1] / "railway" / "peer_push"))
-from bench_common import (  # noqa: E402  (needs the path above)
+sys.path.insert(0, str(HERE.parents[1] / "python"))  # the mfdem package
+from mfdem.bench import (  # noqa: E402  (needs the path above)
     BenchmarkError, add_machine_options, closing_sections, log, mfdem_env, parallel_notes,
     provenance_lines, publish_report, rel, repo_path, report_path, run_main, wait_until_idle)
-from run_peer_push import (  # noqa: E402
+from mfdem.peer_push import (  # noqa: E402
     lammps_bed, packing_without_history, read_config, run_lammps, run_mfdem, with_sleeper)
 
-import numpy as np  # noqa: E402  (run_peer_push has checked that it is there)
+import numpy as np  # noqa: E402  (mfdem.peer_push has checked that it is there)
 import h5py  # noqa: E402
 
 

@@ -29,10 +29,10 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
-# The helpers shared with the other benchmarks live in ../bench_common.py; this script is run as
-# a file, not as part of a package, so their folder goes on the import path.
-sys.path.insert(0, str(HERE.parent))
-from bench_common import (  # noqa: E402  (needs the path above)
+# The helpers shared with the other benchmarks live in the mfdem package (studies/python/mfdem/
+# bench.py); this script is run as a file, so the package's folder goes on the import path.
+sys.path.insert(0, str(HERE.parents[1] / "python"))  # the mfdem package
+from mfdem.bench import (  # noqa: E402  (needs the path above)
     BETA, DENSITY, KN, KT, MU, BenchmarkError, add_machine_options, add_run_options,
     closing_sections, contact_law_checks, fill_quick_defaults, fmt_millions, log, loop_steps,
     max_ranks, mpi_prefix, mpirun, package_version, parallel_notes, peer_env, provenance_lines,
@@ -40,7 +40,7 @@ from bench_common import (  # noqa: E402  (needs the path above)
     run_mfdem, run_peer_timed, set_toml_value, summarise, tail, timestamp, var_args,
     wait_until_idle)
 
-# --- the scene (fixed by the benchmark issue; contact law and density in bench_common) ------
+# --- the scene (fixed by the benchmark issue; contact law and density in mfdem.bench) ------
 DIAMETER = 0.04            # m
 RADIUS = DIAMETER / 2
 MU_R = 0.3                 # rolling friction of the rolling-resistance variant

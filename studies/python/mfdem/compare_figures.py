@@ -7,6 +7,7 @@ and .svg. `mfdem compare` calls it at its end; every number drawn was computed b
 """
 import argparse
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -49,7 +50,7 @@ def section_panels(data, title):
     views = data["views"]
     width = 11.0
     ratio = (s["z_max"] - s["z_min"]) / (s["x_max"] - s["x_min"])
-    fig, axes = plt.subplots(len(views), 1, figsize=(width, 0.9 + len(views) * (width * 0.82 * ratio + 0.45)),
+    fig, axes = plt.subplots(len(views), 1, figsize=(width, 1.4 + len(views) * (width * 0.82 * ratio + 0.45)),
                              constrained_layout=True, squeeze=False)
     axes = axes[:, 0]
     for ax, v in zip(axes, views):
@@ -60,7 +61,7 @@ def section_panels(data, title):
         ax.set_ylabel("z (m)")
         figures.sleeper_outline(ax, s["sleeper_x0"], s["sleeper_x1"], s["sleeper_z0"], s["sleeper_z1"])
     axes[-1].set_xlabel("x across the track (m); the sleeper pushed towards +x")
-    fig.suptitle(title, fontsize=10)
+    fig.suptitle("\n".join(textwrap.fill(part, 125) for part in title.split("\n")), fontsize=10)
     return fig, axes
 
 
@@ -73,8 +74,9 @@ def displacement_section(data, config, out, quiet):
     s = data["section"]
     clip_mm = max(s["displacement_clip"] * 1e3, 1e-6)
     fig, axes = section_panels(
-        data, f"{config}: stone displacement over the push, at u_end;\n{slab_text(s)}, each a disc of 70 % of its "
-              "sieve size (the slab's stones overlap in projection)")
+        data, f"{config}: stone displacement over the push, at u_end; {slab_text(s)}, each a disc of 70 % of its "
+              f"sieve size (the slab's stones overlap in projection). One colour scale for every panel, clipped at "
+              f"the {100 * s['clip_percentile']:.0f}th percentile of their stones ({clip_mm:.2f} mm)")
     norm = Normalize(0.0, clip_mm)
     mappable = None
     for ax, v in zip(axes, data["views"]):
@@ -88,8 +90,7 @@ def displacement_section(data, config, out, quiet):
         mappable = discs
     if mappable is not None:
         fig.colorbar(mappable, ax=list(axes), extend="max", shrink=0.9, aspect=35,
-                     label=f"displacement (mm); one scale, clipped at the {100 * s['clip_percentile']:.0f}th "
-                           f"percentile of all panels ({clip_mm:.2f} mm)")
+                     label=f"displacement (mm), clipped at {clip_mm:.2f} mm")
     return figures.save(fig, out / "displacement_section", quiet)
 
 
@@ -98,9 +99,11 @@ def force_chains(data, config, out, quiet):
     scale, unit = figures.force_unit(s["largest_chain_force"])
     clip = max(s["chain_clip"], s["chain_threshold"], 1e-12)
     fig, axes = section_panels(
-        data, f"{config}: force chains at u_end; {slab_text(s, 'the stone-stone contacts')},\ncarrying at least "
+        data, f"{config}: force chains at u_end; {slab_text(s, 'the stone-stone contacts')}, carrying at least "
               f"{s['chain_threshold'] * scale:.3g} {unit} (the reference's mean contact force), each a line between "
-              "the two stones' centres, width and colour by force on one scale")
+              f"the two stones' centres. Width and colour by force on one scale for every panel, clipped at the "
+              f"{100 * s['clip_percentile']:.0f}th percentile of the chains drawn ({clip * scale:.3g} {unit}; "
+              f"the largest {s['largest_chain_force'] * scale:.3g} {unit})")
     norm = Normalize(s["chain_threshold"] * scale, clip * scale)
     mappable = None
     for ax, v in zip(axes, data["views"]):
@@ -114,8 +117,7 @@ def force_chains(data, config, out, quiet):
         mappable = lines
     if mappable is not None:
         fig.colorbar(mappable, ax=list(axes), extend="max", shrink=0.9, aspect=35,
-                     label=f"contact force ({unit}); clipped at the {100 * s['clip_percentile']:.0f}th percentile "
-                           f"of the chains drawn ({clip * scale:.3g} {unit}; largest {s['largest_chain_force'] * scale:.3g})")
+                     label=f"contact force ({unit}), clipped at {clip * scale:.3g}")
     return figures.save(fig, out / "force_chains", quiet)
 
 

@@ -13,7 +13,7 @@ of chaos for the difference between the codes. Reported: F(u) of every run, the 
 mean force over 1 mm windows, the vertical force on the sleeper, and the push loop's wall time,
 as a figure (peer_push.png) and a report (report.md).
 
-Usage: /usr/bin/python3 studies/railway/peer_push/run_peer_push.py PACKING_DIR --out DIR
+Usage: tools/mfdem-py peer_push PACKING_DIR --out DIR
        [--config TOML] [--velocity MM_S] [--distance MM] [--threads N] [--ranks N...] [--reuse]
 Needs Debian's python3 (h5py, numpy, matplotlib) and the lammps package.
 """
@@ -30,18 +30,16 @@ import time
 import tomllib
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parents[1] / "benchmarks"))
-from bench_common import (  # noqa: E402  (needs the path above)
-    BenchmarkError, machine_description, mfdem_env, mpi_prefix, peer_env, provenance_lines,
+from mfdem.bench import (
+    REPO, BenchmarkError, machine_description, mfdem_env, mpi_prefix, peer_env, provenance_lines,
     rel, repo_path, run_main, set_toml_value, var_args)
-from clump_export import read_bed, write_clumps  # noqa: E402
+from mfdem.clump_export import read_bed, write_clumps
 
 try:
     import h5py
     import numpy as np
 except ImportError as exc:
-    sys.exit(f"run_peer_push.py: error: {exc}; run it with /usr/bin/python3 (Debian's, with "
+    sys.exit(f"peer_push: error: {exc}; run it with /usr/bin/python3 (Debian's, with "
              "python3-h5py and python3-numpy)")
 
 # Table 1 (mfdem's defaults for the railway section, studies/railway/push_config.cpp)
@@ -172,7 +170,7 @@ def run_lammps(exe: str, bed: dict, s: dict, dt: float, steps: int, ranks: int, 
         nrec = max(1, round(s["record_interval"] / (s["velocity"] * dt)))
         variables = lammps_variables(bed["attrs"], s, dt, steps, nrec)
         variables.update(datafile=str(bed["data"]), bodyfile=str(bed["bodies"]))
-        cmd = mpi_prefix(ranks) + [exe, "-in", str(HERE / "in.push.lmp"), "-log", "log.lammps",
+        cmd = mpi_prefix(ranks) + [exe, "-in", str(REPO / "studies/railway/peer_push/in.push.lmp"), "-log", "log.lammps",
                                    "-screen", "none"] + var_args(variables)
         print(f"LAMMPS: {steps} steps of {dt:.4g} s, {ranks} rank(s)", flush=True)
         start = time.monotonic()

@@ -1,8 +1,8 @@
 """mfdem clumps to LAMMPS: read a state file's last frame and write a data file and a
 fix rigid/small infile.
 
-Shared by the clump-bed benchmark (clump_bed/run_benchmark.py) and the peer push of the railway
-section (studies/railway/peer_push/run_peer_push.py). Needs h5py and numpy (Debian's python3).
+Shared by the clump-bed benchmark (studies/benchmarks/clump_bed/run_benchmark.py) and the peer
+push of the railway section (mfdem.peer_push). Needs h5py and numpy (Debian's python3).
 """
 
 from __future__ import annotations

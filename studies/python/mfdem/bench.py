@@ -1,9 +1,9 @@
-"""Helpers shared by the benchmark drivers (studies/benchmarks/*/run_benchmark.py).
+"""Helpers shared by the benchmark drivers (studies/benchmarks/*/run_benchmark.py) and the peer push.
 
 Both benchmarks time mfdem, LAMMPS and LIGGGHTS with one contact law on a shared machine, so
 they share that law, the way a run is launched and measured (MPI ranks, /usr/bin/time, load of
 other processes), the median summary and the parts of the report that describe the machine.
-The drivers are run as files, not as a package; each puts this folder on sys.path to import it.
+The drivers are run as files; each puts studies/python on sys.path to import this package.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ import tomllib
 from collections.abc import Callable
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]  # studies/python/mfdem/bench.py
 
 # --- the contact law of every benchmark (one law, so that their throughputs compare) --------
 DENSITY = 2800.0           # kg/m^3
