@@ -173,6 +173,10 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
     row.contacts_at_peak = finite_mean(values(m, number::kContactsAtPeak));
     row.preparation_wall = finite_mean(values(m, number::kPreparationWall));
     row.push_wall = finite_mean(values(m, number::kPushWall));
+    row.time_step = finite_mean(values(m, number::kTimeStep));
+    row.steps = finite_mean(values(m, number::kSteps));
+    if (row.elements > 0.0) row.contacts_per_element = row.contacts_at_peak / row.elements;
+    if (row.push_wall > 0.0) row.element_steps_per_second = row.elements * row.steps / row.push_wall;
     if (row.push_wall > 0.0) row.push_speedup = ref_push / row.push_wall;
     if (row.push_wall + row.preparation_wall > 0.0) row.total_speedup = ref_total / (row.push_wall + row.preparation_wall);
     const auto output = [&](const char* name) {
@@ -201,6 +205,10 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
     row.contact_verdict = verdict(row.max_contact_force.difference, request.tolerance);
     table.rows.push_back(row);
   }
+  const double reference_rate = table.rows[ref].element_steps_per_second;
+  for (auto& row : table.rows)
+    if (row.element_steps_per_second > 0.0 && reference_rate > 0.0)
+      row.relative_step_cost = reference_rate / row.element_steps_per_second;
   return table;
 }
 
@@ -221,6 +229,14 @@ void print_compare_table(std::ostream& out, const CompareTable& t) {
                r.failed ? fmt::format("{}+{}F", r.seeds, r.failed) : std::to_string(r.seeds), r.clumps, r.balls,
                r.elements, r.contacts_at_peak, scene::format_duration(r.preparation_wall),
                scene::format_duration(r.push_wall), speedup_text(r.push_speedup), speedup_text(r.total_speedup));
+  fmt::print(out, "\nCost of a push step (means over seeds)\n");
+  fmt::print(out, "  {:<{}} {:>11} {:>9} {:>16} {:>18} {:>20}\n", "model", width, "time step", "steps",
+             "element-steps/s", "contacts/element", "cost/element-step");
+  for (const auto& r : t.rows)
+    fmt::print(out, "  {:<{}} {:>11} {:>9.0f} {:>16} {:>18.2f} {:>20}\n", r.model, width,
+               r.time_step > 0.0 ? fmt::format("{:.3g} s", r.time_step) : "-", r.steps,
+               r.element_steps_per_second > 0.0 ? fmt::format("{:.3g}", r.element_steps_per_second) : "-",
+               r.contacts_per_element, r.relative_step_cost > 0.0 ? fmt::format("{:.2f}x", r.relative_step_cost) : "-");
   fmt::print(out, "\nAccuracy (means over seeds; difference from the reference in %, paired by seed, +- the 95 % "
                   "Student-t half-width)\n");
   // Forces in kN on a full-size bed, in N on a small one (a mini bed's peak is about 50 N).
@@ -245,7 +261,7 @@ void print_compare_table(std::ostream& out, const CompareTable& t) {
   fmt::print(out,
              "\nre-settling: the model's preparation after the shared deposition (conversion, growth of the balls, "
              "the later stages); push x, total x: the reference's wall time over the model's (push alone; "
-             "re-settling + push). contacts: active element contacts at the peak. F(u) NRMS: RMS of F_model - "
+             "re-settling + push). contacts: active element contacts at the peak. cost/element-step: the push's wall time per element-step against the reference's (above 1: an element of the model costs more). F(u) NRMS: RMS of F_model - "
              "F_reference over the reference's samples / its peak. An interval is over the seeds both models "
              "finished (t with n - 1 degrees of freedom); one seed gives no interval.\n");
   if (t.revisions.size() > 1)
@@ -273,6 +289,11 @@ void write_compare_markdown(const fs::path& file, const CompareTable& t) {
                        r.mean_force.mean * 1e-3, percent_interval(r.mean_force.difference),
                        r.reference ? std::string("0") : percent_interval(r.curve_difference),
                        verdict_line(r, t.tolerance));
+  out << "\n| model | time step (s) | push steps | contacts per element | element-steps per s | cost per element-step |\n"
+         "|---|---|---|---|---|---|\n";
+  for (const auto& r : t.rows)
+    out << fmt::format("| {} | {:.3g} | {:.0f} | {:.2f} | {:.3g} | {:.2f}x |\n", r.model, r.time_step, r.steps,
+                       r.contacts_per_element, r.element_steps_per_second, r.relative_step_cost);
   out << fmt::format("\nDifferences are paired by seed (every model starts from the seed's deposition): mean +- the "
                      "half-width of the 95 % Student-t interval over the seeds. The shared deposition took {:.1f} s "
                      "per seed.\n",
@@ -286,7 +307,8 @@ void write_compare_csv(const fs::path& file, const CompareTable& t) {
          "push_speedup,total_speedup";
   for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
     out << fmt::format(",{0}_N,{0}_diff,{0}_diff_low,{0}_diff_high", o);
-  out << ",curve_nrms,curve_nrms_low,curve_nrms_high,peak_verdict,contact_verdict\n";
+  out << ",curve_nrms,curve_nrms_low,curve_nrms_high,peak_verdict,contact_verdict,time_step_s,steps,"
+         "contacts_per_element,element_steps_per_s,relative_step_cost\n";
   const auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
   for (const auto& r : t.rows) {
     out << fmt::format("\"{}\",{},{},{},{},{},{},{},{},{},{},{}", r.model, r.reference ? 1 : 0, r.seeds, r.failed,
@@ -295,8 +317,10 @@ void write_compare_csv(const fs::path& file, const CompareTable& t) {
     for (const OutputRow* o : {&r.peak_force, &r.max_contact_force, &r.contact_force_q999, &r.mean_force})
       out << fmt::format(",{},{},{},{}", g(o->mean), g(o->difference.mean), g(o->difference.low()),
                          g(o->difference.high()));
-    out << fmt::format(",{},{},{},{},{}\n", g(r.curve_difference.mean), g(r.curve_difference.low()),
+    out << fmt::format(",{},{},{},{},{}", g(r.curve_difference.mean), g(r.curve_difference.low()),
                        g(r.curve_difference.high()), verdict_text(r.peak_verdict), verdict_text(r.contact_verdict));
+    out << fmt::format(",{},{},{},{},{}\n", g(r.time_step), g(r.steps), g(r.contacts_per_element),
+                       g(r.element_steps_per_second), g(r.relative_step_cost));
   }
 }
 

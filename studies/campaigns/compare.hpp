@@ -50,6 +50,11 @@ struct ModelRow {
   double clumps = 0.0, balls = 0.0, elements = 0.0, contacts_at_peak = 0.0;  // means over seeds
   double preparation_wall = 0.0, push_wall = 0.0;  // s, means
   double push_speedup = 0.0, total_speedup = 0.0;  // reference's mean wall / this model's
+  // What a push step costs (means over seeds): the time step, element-steps per second of push
+  // wall time, active contacts per element at the peak, and the push's wall time per element-step
+  // relative to the reference's (1: a ball costs what a pebble costs).
+  double time_step = 0.0, steps = 0.0, element_steps_per_second = 0.0, contacts_per_element = 0.0;
+  double relative_step_cost = 0.0;
   OutputRow peak_force, max_contact_force, contact_force_q999, mean_force;
   MeanInterval curve_difference;        // normalised RMS difference of F(u), per seed
   Verdict peak_verdict = Verdict::undecided, contact_verdict = Verdict::undecided;

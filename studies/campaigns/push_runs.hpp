@@ -64,6 +64,8 @@ inline constexpr const char* kPreparationWall = "preparation_wall_seconds";  // 
 inline constexpr const char* kPushWall = "push_wall_seconds";
 inline constexpr const char* kDepositionWall = "deposition_wall_seconds";    // shared by the seed's runs
 inline constexpr const char* kSeed = "seed";
+inline constexpr const char* kTimeStep = "time_step";                    // s, of the push
+inline constexpr const char* kSteps = "steps";                           // of the push
 }  // namespace number
 
 }  // namespace mfdem::campaigns

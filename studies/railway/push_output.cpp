@@ -82,13 +82,14 @@ void write_push_file(const std::filesystem::path& path, const PushResult& r) {
       {"max_inertial_number", r.max_inertial_number}, {"final_heave", r.final_heave},
       {"sleeper_weight", r.sleeper_weight},
       {"sleeper_friction", r.sleeper_friction},
-      {"time_step", r.time_step}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
+      {"time_step", r.time_step}, {"time_step_limit", r.time_step_limit}, {"steps", static_cast<double>(r.steps)}, {"wall_seconds", r.wall_seconds},
       {"stones", static_cast<double>(r.stones)}, {"elements", static_cast<double>(r.elements)}};
   for (const auto& [name, value] : numbers) write_attribute(file, name, value);
   write_attribute(file, "seed", static_cast<double>(r.seed));
   write_attribute(file, "config_hash", r.config_hash);
   write_attribute(file, "push_config", r.push_config);
   write_attribute(file, "revision", r.revision);
+  write_attribute(file, "time_step_reason", r.time_step_reason);
   {
     const hid_t model = make_group(file, "model");
     write_attribute(model, "policy", r.model.policy);
@@ -164,13 +165,14 @@ void write_push_summary(const std::filesystem::path& path, const PushResult& r, 
       "peak_base = {:.6g}\npeak_crib = {:.6g}\npeak_shoulder = {:.6g}\npeak_top = {:.6g}\n"
       "start_support_base = {:.6g}\nstart_support_crib = {:.6g}\nstart_support_shoulder = {:.6g}\n"
       "peak_pressing_base = {:.6g}\npeak_pressing_crib = {:.6g}\npeak_pressing_shoulder = {:.6g}\n"
-      "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\nsteps = {}\nwall_seconds = {:.6g}\n",
+      "max_inertial_number = {:.6g}\nfinal_heave = {:.6g}\ntime_step = {:.6g}\ntime_step_limit = {:.6g}\n"
+      "time_step_reason = \"{}\"\nsteps = {}\nwall_seconds = {:.6g}\n",
       r.stones, r.elements, r.velocity, r.distance, r.peak_force, r.u_at_peak, r.mean_force, r.max_contact_force,
       r.contact_force_q999, r.mean_contact_force, r.at_peak().parts.base, r.at_peak().parts.crib,
       r.at_peak().parts.shoulder, r.at_peak().parts.top, r.curve.front().support.base, r.curve.front().support.crib,
       r.curve.front().support.shoulder, r.at_peak().pressing.base, r.at_peak().pressing.crib,
-      r.at_peak().pressing.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.steps,
-      r.wall_seconds);
+      r.at_peak().pressing.shoulder, r.max_inertial_number, r.final_heave, r.time_step, r.time_step_limit,
+      r.time_step_reason, r.steps, r.wall_seconds);
   // Last: a TOML table ends only at the next one, and readers take the push's numbers from the top level.
   out << fmt::format("\n[model]\npolicy = \"{}\"\nconversion_point = \"{}\"\n", r.model.policy, r.model.conversion_point);
   for (const auto& [name, value] : model_numbers(r.model)) out << fmt::format("{} = {:.6g}\n", name, value);
@@ -237,6 +239,7 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   row("sleeper heave at u_end (mm)", fmt::format("{:.3f}", r.final_heave * 1e3));
   row("max inertial number", fmt::format("{:.2e}", r.max_inertial_number));
   row("time step (s)", fmt::format("{:.3g}", r.time_step));
+  row("  of the critical step (s)", fmt::format("{:.3g}, set by the {}", r.time_step_limit, r.time_step_reason));
   row("steps", fmt::format("{}", r.steps));
   row("wall time", scene::format_duration(r.wall_seconds));
   fmt::print(out, "{}\n", scene::wrap_text(std::string("Definitions: ") + kPushDefinitions, kTextWidth));

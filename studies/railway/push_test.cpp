@@ -119,6 +119,8 @@ PushResult run_push(const Packing& packing, const PushStudyConfig& c, const Push
   r.velocity = run.velocity;
   r.distance = run.distance;
   r.time_step = sim.time_step();
+  r.time_step_limit = sim.time_step_limit().limit;
+  r.time_step_reason = sim.time_step_limit().reason;
   r.stones = sim.bodies().size();
   r.elements = sim.elements().size();
   r.sleeper_weight = sim.boxes()[0].mass * sim.settings().gravity.norm();

@@ -89,6 +89,8 @@ struct PushResult {
   double sleeper_friction = 0.0;          // mu of the stone-sleeper contacts
   bool sleeper_held_vertically = false;   // true: held at its height, not free under its weight
   double time_step = 0.0, wall_seconds = 0.0;
+  double time_step_limit = 0.0;           // s: the critical step the safety factor multiplies
+  std::string time_step_reason;           // the contact type and bodies that set it
   std::int64_t steps = 0, stones = 0, elements = 0;
   std::vector<dem::ContactRecord> end_contacts;      // stone-stone, at u_end
   std::vector<dem::Vec3> start_position, end_position;  // stone centres
