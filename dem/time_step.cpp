@@ -16,6 +16,8 @@ struct Lightest {
   double inverse_tangential_mass = 0.0;   // 1/m + r^2/I
   double inverse_inertia = 0.0;           // 1/I
   double radius = 0.0;
+  double lever_over_inertia = 0.0;        // |lever| / I_min, 1/(kg m)
+  bool spheres_only = true;               // every body a sphere: its lever along the contact normal
 };
 
 double damped_factor(double beta) { return std::sqrt(1.0 + beta * beta) - beta; }
@@ -50,6 +52,8 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
         std::max(l.inverse_tangential_mass, inv_mass + turning);
     l.inverse_inertia = std::max(l.inverse_inertia, inv_inertia);
     l.radius = std::max(l.radius, elements.radius[e]);
+    l.lever_over_inertia = std::max(l.lever_over_inertia, lever * inv_inertia);
+    if (!elements.offset[e].isZero() || inertia.maxCoeff() != inertia.minCoeff()) l.spheres_only = false;
   }
 
   TimeStepLimit best{std::numeric_limits<double>::infinity(), "no contacts possible"};
@@ -70,13 +74,30 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
                          label, p.normal_stiffness, 1.0 / inv_m));
     consider(p.shear_stiffness * inv_mt, p.damping_ratio,
              fmt::format("shear spring of {} (ks = {:.3g} N/m)", label, p.shear_stiffness));
-    // Shear and rolling springs both turn the bodies, so they couple: the fastest mode of the
-    // pair lies below the sum of the two squared frequencies (Gershgorin), which we take.
-    if (p.rolling_friction > 0.0)
-      consider(p.shear_stiffness * (inv_mt + rbar * rbar * inv_i), p.damping_ratio,
+    // Shear and rolling springs both turn the bodies, so they couple. In the scaled coordinates
+    // M^-1/2 x the pair's stiffness is ks s s^T + kr t t^T (s the shear spring's direction, t the
+    // rolling spring's, kr = ks Rbar^2), whose largest eigenvalue is that of the 2 x 2 matrix
+    // [[A, C], [C, B]]: A = ks s.s (the shear mode), B = kr t.t (the rolling mode),
+    // C = sqrt(ks kr) s.t. For spheres s.t = r_b / I_b - r_a / I_a (both spin the contact the same
+    // way, the rolling spring takes their difference), so |s.t| <= max(r / I), and 0 for equal
+    // spheres: the two modes hardly couple. For clumps only |s.t| <= sqrt(s.s t.t) is known,
+    // which gives A + B. The eigenvalue grows with A, B and |C|, so the lightest bodies' values
+    // bound every pair of the materials.
+    if (p.rolling_friction > 0.0) {
+      const double kr = p.shear_stiffness * rbar * rbar;
+      const double shear_mode = p.shear_stiffness * inv_mt, rolling_mode = kr * inv_i;
+      double coupled = shear_mode + rolling_mode;
+      if (a.spheres_only && (!b || b->spheres_only)) {
+        const double cross = std::max(a.lever_over_inertia, b ? b->lever_over_inertia : 0.0);
+        const double c2 = p.shear_stiffness * kr * cross * cross;
+        const double gap = shear_mode - rolling_mode;
+        coupled = 0.5 * (shear_mode + rolling_mode + std::sqrt(gap * gap + 4.0 * c2));
+      }
+      consider(coupled, p.damping_ratio,
                fmt::format("coupled shear and rolling springs of {} (ks = {:.3g} N/m, "
                            "mu_r = {:.3g})",
                            label, p.shear_stiffness, p.rolling_friction));
+    }
   };
 
   for (int a = 0; a < nm; ++a) {

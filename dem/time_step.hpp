@@ -5,8 +5,9 @@
 // Verlet is stable for dt < 2/w, w = sqrt(k / m_eff); viscous damping of ratio beta lowers it
 // to 2/w (sqrt(1 + beta^2) - beta). The tangential spring also turns the bodies, which lowers
 // the effective mass to 1 / (1/m_a + r_a^2/I_a + 1/m_b + r_b^2/I_b) (2/7 m for a sphere on a
-// wall); the rolling spring acts on the moments of inertia. The stiffest, lightest combination
-// present sets the limit. A packed bed (several contacts per body) needs a safety factor below
+// wall); the rolling spring acts on the moments of inertia and couples with the tangential one
+// (their 2 x 2 eigenproblem, time_step.cpp). The stiffest, lightest combination present sets
+// the limit. A packed bed (several contacts per body) needs a safety factor below
 // one: the automatic step is safety x limit, 0.2 by default (PFC and LIGGGHTS users take
 // 0.1-0.3 of the Rayleigh or spring limit).
 #include <string>
