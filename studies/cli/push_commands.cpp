@@ -73,17 +73,23 @@ std::optional<fs::path> pack(const PackOptions& o, bool start_over = false) {
   return railway::pack_bed(config, request, std::cout).packing;
 }
 
+// The push's velocity and distance as options give them (mm to m).
+railway::PushRequest motion_of(const PushOptions& o) {
+  railway::PushRequest request;
+  if (o.velocity_mm_s) request.velocity = *o.velocity_mm_s * 1e-3;
+  if (o.distance_mm) request.distance = *o.distance_mm * 1e-3;
+  return request;
+}
+
 int push(const PushOptions& o, const fs::path& packing_path) {
   // The packing's own config unless --config; read before any work so that a bad one stops here.
   const railway::Packing packing = railway::load_packing(packing_path);
   railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
-  railway::PushRequest request;
+  railway::PushRequest request = motion_of(o);
   request.model_origin = apply_model_options(o.model, config);
   request.convert = o.model.fidelity.has_value();
   request.out = o.common.out;
   request.quiet = o.common.quiet;
-  if (o.velocity_mm_s) request.velocity = *o.velocity_mm_s * 1e-3;
-  if (o.distance_mm) request.distance = *o.distance_mm * 1e-3;
   request.check_rate = o.check_rate;
   request.revision = git_revision();
   const railway::PushOutcome outcome = railway::push_bed(packing, packing_path, config, request, std::cout);
@@ -114,11 +120,9 @@ void add_model_options(CLI::App& command, ModelOptions& o, const std::string& wh
 
 void add_push_options(CLI::App& command, PushOptions& o) {
   command.add_option_function<double>("--velocity", [&o](const double& v) { o.velocity_mm_s = v; },
-                                      "Sleeper velocity in mm/s (default: the config's [push] velocity)")
-      ->check(CLI::PositiveNumber);
+                                      "Sleeper velocity in mm/s (default: the config's [push] velocity)");
   command.add_option_function<double>("--distance", [&o](const double& d) { o.distance_mm = d; },
-                                      "Push distance u_end in mm (default: the config's, 5 mm)")
-      ->check(CLI::PositiveNumber);
+                                      "Push distance u_end in mm (default: the config's, 5 mm)");
   add_model_options(command, o.model,
                     "before the push (the prepared bed converted and re-settled; default: the config's [fidelity] "
                     "policy, all-clump)");
@@ -209,6 +213,8 @@ void add_push_commands(CLI::App& app, Action& action) {
     action = [one_shot] {
       apply_thread_count(one_shot->common);
       return guarded([&] {
+        // The push's settings checked before the pack's hours of work.
+        railway::push_motion(railway::load_push_config(one_shot->packing), motion_of(*one_shot));
         PackOptions p;
         p.common = one_shot->common;
         p.config = one_shot->packing;

@@ -171,6 +171,17 @@ void check_push_motion(double velocity, double distance, double record_interval,
            fmt::format("s; expected at most {:.0e} s of simulated time", kLongestPush));
 }
 
+std::pair<double, double> push_motion(const PushStudyConfig& config, const PushRequest& request) {
+  const double velocity = request.velocity.value_or(config.push.velocity);
+  const double distance = request.distance.value_or(config.push.distance);
+  const std::string given = request.velocity && request.distance ? "--velocity, --distance"
+                            : request.velocity                      ? "--velocity"
+                            : request.distance                      ? "--distance"
+                                                                    : config.source.string() + ": [push]";
+  check_push_motion(velocity, distance, config.push.record_interval, given);
+  return {velocity, distance};
+}
+
 PushOutcome push_bed(const Packing& packing, const fs::path& packing_path, const PushStudyConfig& given_config,
                      const PushRequest& request, std::ostream& out) {
   PushStudyConfig config = given_config;
@@ -182,13 +193,7 @@ PushOutcome push_bed(const Packing& packing, const fs::path& packing_path, const
                      fmt::format("the bed of {} has its sleeper base {:.4f} m above the floor",
                                  packing_path.string(), scale.sleeper_base));
   PushRun run;
-  run.velocity = request.velocity.value_or(config.push.velocity);
-  run.distance = request.distance.value_or(config.push.distance);
-  const std::string given = request.velocity && request.distance ? "--velocity, --distance"
-                            : request.velocity                      ? "--velocity"
-                            : request.distance                      ? "--distance"
-                                                                    : config.source.string() + ": [push]";
-  check_push_motion(run.velocity, run.distance, config.push.record_interval, given);
+  std::tie(run.velocity, run.distance) = push_motion(config, request);
   run.quiet = request.quiet;
   fs::create_directories(request.out);
   remove_earlier(request.out, kPushOutputs, request.quiet, out);

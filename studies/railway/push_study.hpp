@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 
 #include "fidelity/policy.hpp"
 #include "studies/railway/bed_preparation.hpp"
@@ -81,6 +82,9 @@ PushOutcome push_bed(const Packing& packing, const std::filesystem::path& packin
 // distance at least one record interval (run_push checks that the step count they make is one the
 // solver can count). Throws config::ConfigError naming `origin` (the option or key that gave them).
 void check_push_motion(double velocity, double distance, double record_interval, const std::string& origin);
+// The velocity and distance a request pushes with (its own, else the config's [push]), checked as
+// above, naming the options or the config that gave them: (m/s, m).
+std::pair<double, double> push_motion(const PushStudyConfig& config, const PushRequest& request);
 
 // The preparation's table (stages, time, force ratio, sleeper base).
 void print_preparation(std::ostream& out, const Packing& packing, const PreparationReport& report);

@@ -40,6 +40,15 @@ TEST_CASE("a push refuses numbers that are not finite, make no step, or a seed o
     CHECK_THAT(refused.err, Contains(std::string(option).substr(2)));
     CHECK_FALSE(fs::exists(out + "/push.h5"));
   }
+  // push-test checks the push's numbers before it packs (a pack of the paper preset takes hours).
+  for (const auto& [option, value] : {std::pair{"--velocity", "nan"}, {"--velocity", "0"}, {"--distance", "0"}}) {
+    const std::string one_shot = (dir.path() / "one_shot").string();
+    const auto refused = run_mfdem({"push-test", config.string(), option, value, "--out", one_shot, "-q"});
+    CAPTURE(option, value, refused.err);
+    CHECK(refused.status == 2);
+    CHECK_THAT(refused.err, Contains(std::string(option)) && Contains("expected"));
+    CHECK_FALSE(fs::exists(one_shot));  // nothing made: not even the folder
+  }
   const auto seeded = run_mfdem({"push", bed, "--seed", "5", "--out", out, "-q"});
   CHECK(seeded.status == 2);
   CHECK_THAT(seeded.err, Contains("--seed 5") && Contains("packing's"));
