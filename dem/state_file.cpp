@@ -15,30 +15,40 @@ namespace {
 std::string frame_name(int frame) { return fmt::format("frames/{:06d}", frame); }
 
 // PATH.xdmf for the frames of PATH: ParaView reads the element positions, radii, bodies and
-// velocities of every frame from the HDF5 file, named relative to the XDMF file.
-void write_xdmf_file(const std::filesystem::path& path, const std::vector<double>& frame_times, long long elements) {
+// velocities of every frame from the HDF5 file, named relative to the XDMF file. The file is a
+// header, one Grid per frame and a footer, so a frame is appended by overwriting the footer.
+constexpr const char* kXdmfHeader =
+    "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+    "<Grid Name=\"elements\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+constexpr const char* kXdmfFooter = "</Grid>\n</Domain>\n</Xdmf>\n";
+
+std::filesystem::path xdmf_path(const std::filesystem::path& path) {
   std::filesystem::path xdmf = path;
-  xdmf.replace_extension(".xdmf");
-  std::ofstream out(xdmf);
+  return xdmf.replace_extension(".xdmf");
+}
+
+std::string xdmf_frame(std::size_t f, double time, long long elements, const std::string& h5) {
+  const std::string frame = frame_name(static_cast<int>(f));
+  return fmt::format("<Grid Name=\"frame{0}\" GridType=\"Uniform\">\n<Time Value=\"{1:.9g}\"/>\n"
+                     "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{2}\"/>\n"
+                     "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{2} 3\" "
+                     "Format=\"HDF\" Precision=\"8\">{3}:/{4}/element_position</DataItem></Geometry>\n"
+                     "<Attribute Name=\"radius\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                     "Format=\"HDF\" Precision=\"8\">{3}:/elements/radius</DataItem></Attribute>\n"
+                     "<Attribute Name=\"body\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
+                     "NumberType=\"Int\" Format=\"HDF\">{3}:/elements/body</DataItem></Attribute>\n"
+                     "<Attribute Name=\"velocity\" Center=\"Node\" AttributeType=\"Vector\">"
+                     "<DataItem Dimensions=\"{2} 3\" Format=\"HDF\" Precision=\"8\">{3}:/{4}/"
+                     "element_velocity</DataItem></Attribute>\n</Grid>\n",
+                     f, time, elements, h5, frame);
+}
+
+void write_xdmf_file(const std::filesystem::path& path, const std::vector<double>& frame_times, long long elements) {
+  std::ofstream out(xdmf_path(path));
   const std::string h5 = path.filename().string();
-  out << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
-      << "<Grid Name=\"elements\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (std::size_t f = 0; f < frame_times.size(); ++f) {
-    const std::string frame = frame_name(static_cast<int>(f));
-    out << fmt::format("<Grid Name=\"frame{0}\" GridType=\"Uniform\">\n<Time Value=\"{1:.9g}\"/>\n"
-                       "<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{2}\"/>\n"
-                       "<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"{2} 3\" "
-                       "Format=\"HDF\" Precision=\"8\">{3}:/{4}/element_position</DataItem></Geometry>\n"
-                       "<Attribute Name=\"radius\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
-                       "Format=\"HDF\" Precision=\"8\">{3}:/elements/radius</DataItem></Attribute>\n"
-                       "<Attribute Name=\"body\" Center=\"Node\"><DataItem Dimensions=\"{2}\" "
-                       "NumberType=\"Int\" Format=\"HDF\">{3}:/elements/body</DataItem></Attribute>\n"
-                       "<Attribute Name=\"velocity\" Center=\"Node\" AttributeType=\"Vector\">"
-                       "<DataItem Dimensions=\"{2} 3\" Format=\"HDF\" Precision=\"8\">{3}:/{4}/"
-                       "element_velocity</DataItem></Attribute>\n</Grid>\n",
-                       f, frame_times[f], elements, h5, frame);
-  }
-  out << "</Grid>\n</Domain>\n</Xdmf>\n";
+  out << kXdmfHeader;
+  for (std::size_t f = 0; f < frame_times.size(); ++f) out << xdmf_frame(f, frame_times[f], elements, h5);
+  out << kXdmfFooter;
 }
 
 }  // namespace
@@ -137,7 +147,7 @@ void StateFile::write_snapshot(const Simulation& sim, const Simulation::Snapshot
   frame_times_.push_back(s.time);
   append_series(sim, s.time);
   H5Fflush(file_, H5F_SCOPE_GLOBAL);
-  write_xdmf();
+  append_xdmf_frame();
 }
 
 void StateFile::append_series(const Simulation& sim, double time) {
@@ -161,7 +171,23 @@ void StateFile::append_series(const Simulation& sim, double time) {
   }
 }
 
-void StateFile::write_xdmf() const { write_xdmf_file(path_, frame_times_, elements_); }
+void StateFile::append_xdmf_frame() {
+  // The new frame overwrites the footer, which follows it: O(frame) per frame, and the file is
+  // whole after every frame (a run that stops keeps a readable XDMF).
+  const std::size_t f = frame_times_.size() - 1;
+  std::fstream out;
+  if (f == 0) {
+    out.open(xdmf_path(path_), std::ios::out | std::ios::trunc | std::ios::binary);
+    out << kXdmfHeader;
+  } else {
+    out.open(xdmf_path(path_), std::ios::in | std::ios::out | std::ios::binary);
+    out.seekp(static_cast<std::streamoff>(xdmf_footer_at_));
+  }
+  out << xdmf_frame(f, frame_times_[f], elements_, path_.filename().string());
+  xdmf_footer_at_ = static_cast<std::uint64_t>(out.tellp());
+  out << kXdmfFooter;
+  if (!out) throw std::runtime_error("cannot write " + xdmf_path(path_).string());
+}
 
 void write_xdmf_companion(const std::filesystem::path& path) {
   const int frames = count_frames(path);

@@ -23,6 +23,7 @@
 //                           elastic_energy, dissipated_damping, dissipated_friction,
 //                           dissipated_local, work_by_walls (J), and wall_force [frames, walls, 3]
 // Every frame is flushed as it is written, so a run that stops keeps all earlier frames.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -47,13 +48,14 @@ class StateFile {
 
  private:
   void append_series(const Simulation& simulation, double time);
-  void write_xdmf() const;
+  void append_xdmf_frame();
 
   std::filesystem::path path_;
   long long file_ = -1;
   int frames_ = 0;
   long long bodies_ = 0, elements_ = 0, walls_ = 0;
   std::vector<double> frame_times_;
+  std::uint64_t xdmf_footer_at_ = 0;  // where the XDMF's footer starts
 };
 
 // What a frame holds, read back (for tests, restarts and post-processing).
