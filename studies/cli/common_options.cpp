@@ -1,8 +1,34 @@
 #include "studies/cli/common_options.hpp"
 
 #include <omp.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 
 namespace mfdem::cli {
+
+// --out must name a folder this process can write, or one it can make: checked before any work
+// (a pack that fails to write its first checkpoint has already spent its deposition).
+const CLI::Validator writable_folder(
+    [](std::string& text) -> std::string {
+      if (text.empty()) return "an empty path (expected the folder for the results)";
+      std::error_code error;
+      std::filesystem::path existing = std::filesystem::absolute(text, error);
+      if (std::filesystem::exists(existing, error) && !std::filesystem::is_directory(existing, error))
+        return "'" + text + "' is a file (expected a folder for the results)";
+      while (!existing.empty() && !std::filesystem::exists(existing, error)) {
+        if (existing == existing.parent_path()) break;
+        existing = existing.parent_path();
+      }
+      if (!std::filesystem::is_directory(existing, error))
+        return "'" + text + "': " + existing.string() + " is not a folder";
+      if (access(existing.c_str(), W_OK | X_OK) != 0)
+        return "'" + text + "': cannot write into " + existing.string() + " (" + std::strerror(errno) + ")";
+      return "";
+    },
+    "FOLDER");
 
 void add_common_options(CLI::App& command, CommonOptions& options) {
   const CLI::Validator non_negative(
@@ -34,6 +60,7 @@ void add_common_options(CLI::App& command, CommonOptions& options) {
       ->check(seed_digits)
       ->default_str(std::to_string(options.seed));
   command.add_option("--out", options.out, "Directory for the results (out/ and scratch/ are ignored by git)")
+      ->check(writable_folder)
       ->default_str(options.out.string());
   command.add_flag("--quiet,-q", options.quiet, "Print only warnings and errors");
 }

@@ -83,6 +83,11 @@ railway::PushRequest motion_of(const PushOptions& o) {
 
 int push(const PushOptions& o, const fs::path& packing_path) {
   // The packing's own config unless --config; read before any work so that a bad one stops here.
+  if (const auto stage = railway::checkpoint_stage(packing_path))
+    throw config::ConfigError(fmt::format(
+        "{} is a checkpoint of a preparation saved before its stage '{}', not a finished packing: finish it with "
+        "`mfdem pack CONFIG --resume --out FOLDER`, or prepare a bed from a deposition with `mfdem pack CONFIG "
+        "--deposit-from FOLDER`", packing_path.string(), *stage));
   const railway::Packing packing = railway::load_packing(packing_path);
   railway::PushStudyConfig config = o.config ? railway::load_push_config(o.config->string()) : packing.config;
   railway::PushRequest request = motion_of(o);

@@ -234,6 +234,21 @@ std::vector<StageReport> read_stage_reports(const std::filesystem::path& path) {
   return stages;
 }
 
+std::optional<std::string> checkpoint_stage(const std::filesystem::path& path) {
+  hid_t file = -1;
+  H5E_BEGIN_TRY { file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); }
+  H5E_END_TRY;
+  if (file < 0) return std::nullopt;
+  std::optional<std::string> stage;
+  if (H5Lexists(file, "packing", H5P_DEFAULT) > 0) {
+    const hid_t g = H5Gopen2(file, "packing", H5P_DEFAULT);
+    if (H5Aexists(g, "next_stage") > 0) stage = dem::h5::read_text_attribute(g, "next_stage");
+    H5Gclose(g);
+  }
+  H5Fclose(file);
+  return stage;
+}
+
 Packing load_packing(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path))
     throw std::runtime_error(fmt::format("{}: no such file (expected a packing.h5 written by `mfdem pack`, "

@@ -35,6 +35,7 @@
 // push from memory.
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,9 @@ std::filesystem::path partial_path(const std::filesystem::path& path);
 // The stage reports of a saved packing, in the order they ran (none for an older packing).
 std::vector<StageReport> read_stage_reports(const std::filesystem::path& path);
 // Throws std::runtime_error naming the file and what is missing.
+// The stage a preparation checkpoint (preparation_checkpoint.hpp) was saved before, or nothing
+// for a finished packing (or a file that is neither: load_packing says what is wrong with it).
+std::optional<std::string> checkpoint_stage(const std::filesystem::path& path);
 Packing load_packing(const std::filesystem::path& path);
 
 }  // namespace mfdem::railway

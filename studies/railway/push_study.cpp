@@ -70,7 +70,12 @@ void warn_unsettled(const PreparationReport& report) {
 
 }  // namespace
 
-fs::path packing_file(const fs::path& given) { return fs::is_directory(given) ? given / "packing.h5" : given; }
+fs::path packing_file(const fs::path& given) {
+  if (!fs::is_directory(given)) return given;
+  // A folder of a pack that stopped holds its checkpoint only: the checkpoint is named, and refused.
+  if (!fs::exists(given / "packing.h5") && fs::exists(given / "checkpoint.h5")) return given / "checkpoint.h5";
+  return given / "packing.h5";
+}
 
 void print_preparation(std::ostream& out, const Packing& p, const PreparationReport& r) {
   const std::string origin = r.continued_from.empty()

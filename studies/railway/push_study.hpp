@@ -67,7 +67,8 @@ struct PushOutcome {
   }
 };
 
-// The packing file a command is given: packing.h5 itself, or the directory `mfdem pack` wrote.
+// The packing file a command is given: packing.h5 itself, or the directory `mfdem pack` wrote (its
+// checkpoint.h5 when it holds no packing.h5, so that a stopped pack is named as such).
 std::filesystem::path packing_file(const std::filesystem::path& given);
 
 // Pushes the sleeper of `packing` (loaded from `packing_path`, whose stage reports a model's

@@ -49,6 +49,24 @@ TEST_CASE("a push refuses numbers that are not finite, make no step, or a seed o
     CHECK_THAT(refused.err, Contains(std::string(option)) && Contains("expected"));
     CHECK_FALSE(fs::exists(one_shot));  // nothing made: not even the folder
   }
+  // --out: empty, or a file, is refused before any work, naming the option.
+  const auto empty_out = run_mfdem({"push-test", config.string(), "--out", ""});
+  CHECK(empty_out.status == 2);
+  CHECK_THAT(empty_out.err, Contains("--out") && Contains("empty path"));
+  const auto file_out = run_mfdem({"push", bed, "--out", bed + "/packing.h5"});
+  CHECK(file_out.status == 2);
+  CHECK_THAT(file_out.err, Contains("--out") && Contains("is a file"));
+  // A pack stopped after its deposition leaves a checkpoint, which push names as such.
+  const std::string stopped = (dir.path() / "stopped").string();
+  REQUIRE(run_mfdem({"pack", config.string(), "--stop-after", "deposit", "--out", stopped, "-q", "--threads", "1"})
+              .status == 0);
+  for (const std::string& given : {stopped, stopped + "/checkpoint.h5"}) {
+    const auto checkpoint = run_mfdem({"push", given, "--out", out, "-q"});
+    CAPTURE(given, checkpoint.err);
+    CHECK(checkpoint.status == 2);
+    CHECK_THAT(checkpoint.err, Contains("checkpoint.h5 is a checkpoint") && Contains("not a finished packing") &&
+                                   Contains("--resume"));
+  }
   const auto seeded = run_mfdem({"push", bed, "--seed", "5", "--out", out, "-q"});
   CHECK(seeded.status == 2);
   CHECK_THAT(seeded.err, Contains("--seed 5") && Contains("packing's"));
