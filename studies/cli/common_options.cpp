@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -63,6 +64,23 @@ void add_common_options(CLI::App& command, CommonOptions& options) {
       ->check(writable_folder)
       ->default_str(options.out.string());
   command.add_flag("--quiet,-q", options.quiet, "Print only warnings and errors");
+}
+
+CLI::Validator finite_positive(const std::string& unit) {
+  return CLI::Validator(
+      [unit](std::string& text) -> std::string {
+        double x = 0.0;
+        try {
+          std::size_t used = 0;
+          x = std::stod(text, &used);
+          if (used != text.size()) return text + " is not a number (expected a finite number > 0, " + unit + ")";
+        } catch (const std::exception&) {
+          return text + " is not a number (expected a finite number > 0, " + unit + ")";
+        }
+        if (!std::isfinite(x) || x <= 0.0) return text + ": expected a finite number > 0 (" + unit + ")";
+        return "";
+      },
+      "> 0");
 }
 
 void apply_thread_count(const CommonOptions& options) {

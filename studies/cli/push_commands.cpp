@@ -125,9 +125,11 @@ void add_model_options(CLI::App& command, ModelOptions& o, const std::string& wh
 
 void add_push_options(CLI::App& command, PushOptions& o) {
   command.add_option_function<double>("--velocity", [&o](const double& v) { o.velocity_mm_s = v; },
-                                      "Sleeper velocity in mm/s (default: the config's [push] velocity)");
+                                      "Sleeper velocity in mm/s (default: the config's [push] velocity)")
+      ->check(finite_positive("mm/s"));
   command.add_option_function<double>("--distance", [&o](const double& d) { o.distance_mm = d; },
-                                      "Push distance u_end in mm (default: the config's, 5 mm)");
+                                      "Push distance u_end in mm (default: the config's, 5 mm)")
+      ->check(finite_positive("mm"));
   add_model_options(command, o.model,
                     "before the push (the prepared bed converted and re-settled; default: the config's [fidelity] "
                     "policy, all-clump)");

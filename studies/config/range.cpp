@@ -11,8 +11,8 @@ bool contains(const Range& range, double x) {
 }
 
 std::string describe(const Range& range) {
-  std::string lower = range.min ? fmt::format("{} {}", range.min_exclusive ? ">" : ">=", *range.min) : "";
-  std::string upper = range.max ? fmt::format("{} {}", range.max_exclusive ? "<" : "<=", *range.max) : "";
+  std::string lower = range.min ? fmt::format("{} {:.6g}", range.min_exclusive ? ">" : ">=", *range.min) : "";
+  std::string upper = range.max ? fmt::format("{} {:.6g}", range.max_exclusive ? "<" : "<=", *range.max) : "";
   if (!lower.empty() && !upper.empty()) return lower + " and " + upper;
   return lower + upper;
 }

@@ -77,7 +77,27 @@ void Section::fail(std::string_view key, std::string_view expected_text) const {
 
 void Section::missing(std::string_view key, std::string_view expected_text) const {
   const std::string table = path().empty() ? "[top level]" : fmt::format("[{}]", path());
-  throw ConfigError(fmt::format("{}: missing key '{}' in {}: {}", where(key), key_text(key), table, expected_text));
+  // A key of the table that is read by nothing and spelt nearly as the missing one: its typo.
+  std::string hint;
+  for (auto&& [present, value] : *record().table)
+    if (!record().asked.count(present.str()) && nearest(present.str(), {std::string(key)})) {
+      hint = fmt::format("; line {} has '{}', which nothing reads: did you mean '{}'?", line_of(present.source()),
+                         key_text(present.str()), key_text(key));
+      break;
+    }
+  throw ConfigError(
+      fmt::format("{}: missing key '{}' in {}: {}{}", where(key), key_text(key), table, expected_text, hint));
+}
+
+void Section::expect_only(const std::vector<std::string>& keys) const {
+  const std::string label = path().empty() ? "[top level]" : fmt::format("[{}]", path());
+  for (auto&& [key, value] : *record().table) {
+    if (std::find(keys.begin(), keys.end(), key.str()) != keys.end()) continue;
+    const auto suggestion = nearest(key.str(), keys);
+    throw ConfigError(fmt::format("{}: unknown key '{}' in {}; {}", where(key.str()), key_text(key.str()), label,
+                                  suggestion ? fmt::format("did you mean '{}'?", *suggestion)
+                                             : fmt::format("expected one of: {}", fmt::join(keys, ", "))));
+  }
 }
 
 bool Section::has(std::string_view key) const {

@@ -74,6 +74,10 @@ class Section {
   // Rejects every key of this table, and of the sub-tables opened from it, that was never asked
   // for; all such keys are reported at once, one per line, each with a suggestion.
   void finish() const;
+  // Rejects at once (before the tables are read) a key of this table that is not one of `keys`:
+  // a misspelt table such as [materails.small] is named as such, not as a material found missing
+  // later.
+  void expect_only(const std::vector<std::string>& keys) const;
 
  private:
   detail::Table& record() const;

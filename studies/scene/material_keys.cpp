@@ -12,15 +12,19 @@ using config::Range;
 const Range kPositive{.min = 0.0, .min_exclusive = true};
 const Range kNonNegative{.min = 0.0};
 const Range kFraction{.min = 0.0, .max = 1.0};
+// Beyond these no granular material lies, and the products the time step and the series
+// stiffness take of them would overflow (kn = 1e300 gave a limit of 0 s with kn = inf).
+const Range kStiffness{.min = 0.0, .max = 1e15, .min_exclusive = true};
+const Range kDensity{.min = 0.0, .max = 1e5, .min_exclusive = true};
 
 }  // namespace
 
 dem::Material read_material(const config::Section& s, const std::string& name) {
   dem::Material m;
   m.name = name;
-  m.density = s.number("density", kPositive, "density in kg/m^3");
-  m.normal_stiffness = s.number("normal_stiffness", kPositive, "normal stiffness kn in N/m");
-  m.shear_stiffness = s.number("shear_stiffness", kPositive, "shear stiffness ks in N/m");
+  m.density = s.number("density", kDensity, "density in kg/m^3");
+  m.normal_stiffness = s.number("normal_stiffness", kStiffness, "normal stiffness kn in N/m");
+  m.shear_stiffness = s.number("shear_stiffness", kStiffness, "shear stiffness ks in N/m");
   m.friction = s.number("friction", kNonNegative, "friction coefficient");
   m.rolling_friction = s.number_or("rolling_friction", 0.0, kNonNegative,
                                    "rolling friction coefficient mu_r");

@@ -81,6 +81,16 @@ void write_summary(const std::filesystem::path& file, const scene::Scene& scene,
 
 }  // namespace
 
+// What the solver refuses when a scene is set up (a time step above the stability limit), as the
+// scene's error: its file, and for the time step the key and option that force it.
+std::string setup_refusal(const std::filesystem::path& file, const std::invalid_argument& e) {
+  std::string message = fmt::format("{}: {}", file.string(), e.what());
+  if (message.find("above the stability limit") != std::string::npos)
+    message = fmt::format("{}: [simulation] time_step: {} ([simulation] force_time_step = true, or `mfdem run "
+                          "--force-dt`)", file.string(), e.what());
+  return message;
+}
+
 void check_scene_file(const std::filesystem::path& file) {
   const scene::Scene s = scene::load_scene(file);
   dem::Simulation sim = scene::make_simulation(s);
@@ -88,6 +98,8 @@ void check_scene_file(const std::filesystem::path& file) {
     sim.prepare();  // also refuses an unstable time step
   } catch (const dem::InitialOverlapError& e) {
     throw config::ConfigError(fmt::format("{}: {}; place them apart", file.string(), e.what()));
+  } catch (const std::invalid_argument& e) {
+    throw config::ConfigError(setup_refusal(file, e));
   }
   step_plan(s, sim, file);
 }
@@ -102,7 +114,7 @@ int run_scene_command(const RunOptions& options) {
   try {
     sim.prepare();
   } catch (const std::invalid_argument& e) {
-    std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "\n";
+    std::cerr << "mfdem: error: " << setup_refusal(options.scene, e) << "\n";
     return 2;
   } catch (const dem::InitialOverlapError& e) {  // bodies the scene placed overlapping: its input
     std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "; place them apart\n";

@@ -106,6 +106,8 @@ void read_state_file(const Section& s, Scene& scene) {
 
 Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t> seed) {
   const Section root = config::load(file);
+  root.expect_only({"simulation", "guards", "domain", "materials", "pair", "sphere", "sphere_file", "sphere_group",
+                    "stone_group", "state_file", "wall"});
   Scene scene;
   scene.source = file;
   read_simulation(root.section("simulation"), scene);

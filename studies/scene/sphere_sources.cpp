@@ -14,6 +14,8 @@ namespace {
 dem::Vec3 to_vec(const std::array<double, 3>& a) { return dem::Vec3(a[0], a[1], a[2]); }
 
 const config::Range kPositive{.min = 0.0, .min_exclusive = true};
+// A sphere larger than this is no particle of any scene (1e300 passed, then every product overflowed).
+const config::Range kRadius{.min = 0.0, .max = 1e3, .min_exclusive = true};
 
 }  // namespace
 
@@ -60,7 +62,7 @@ int material_key(const config::Section& s, const dem::MaterialTable& materials) 
 dem::SphereSpec read_sphere(const config::Section& s, const dem::MaterialTable& materials) {
   dem::SphereSpec sphere;
   sphere.position = to_vec(s.vec3("position", "sphere centre in m"));
-  sphere.radius = s.number("radius", kPositive, "sphere radius in m");
+  sphere.radius = s.number("radius", kRadius, "sphere radius in m");
   sphere.material = material_key(s, materials);
   sphere.velocity = to_vec(s.vec3_or("velocity", {0, 0, 0}, "velocity in m/s"));
   sphere.angular_velocity = to_vec(s.vec3_or("angular_velocity", {0, 0, 0}, "angular velocity in rad/s"));
@@ -109,7 +111,7 @@ std::vector<dem::SphereSpec> generate_sphere_group(const config::Section& s,
   const dem::Vec3 lo = to_vec(s.vec3("min", "region corner in m"));
   const dem::Vec3 hi = to_vec(s.vec3("max", "region corner in m"));
   const long long count = s.integer("count", {.min = 1}, "number of spheres");
-  const double radius = s.number("radius", kPositive, "mean sphere radius in m");
+  const double radius = s.number("radius", kRadius, "mean sphere radius in m");
   const double spread = s.number_or("radius_spread", 0.0, {.min = 0.0, .max = 1.0, .max_exclusive = true},
                                     "relative radius spread");
   const int material = material_key(s, materials);
