@@ -18,6 +18,7 @@ struct Lightest {
   double radius = 0.0;
   double lever_over_inertia = 0.0;        // |lever| / I_min, 1/(kg m)
   bool spheres_only = true;               // every body a sphere: its lever along the contact normal
+  Index bodies = 0, last_body = -1;       // bodies with elements of the material (elements of a body are contiguous)
 };
 
 double damped_factor(double beta) { return std::sqrt(1.0 + beta * beta) - beta; }
@@ -47,6 +48,7 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     const double turning = std::min(lever * lever * inv_inertia, by_axes);
     Lightest& l = light[m];
     l.present = true;
+    if (b != l.last_body) ++l.bodies, l.last_body = b;
     l.inverse_mass = std::max(l.inverse_mass, inv_mass);
     l.inverse_tangential_mass =
         std::max(l.inverse_tangential_mass, inv_mass + turning);
@@ -57,6 +59,7 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
   }
 
   TimeStepLimit best{std::numeric_limits<double>::infinity(), "no contacts possible"};
+  TimeStepLimit fallback = best;
   auto consider = [&](double omega2, double beta, const std::string& what) {
     if (omega2 <= 0.0) return;
     const double dt = 2.0 / std::sqrt(omega2) * damped_factor(beta);
@@ -104,12 +107,26 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     if (!light[a].present) continue;
     for (int b = a; b < nm; ++b) {
       if (!light[b].present) continue;
+      // A lone body of a material never touches its like: its pair only sets the fallback.
+      if (b == a && light[a].bodies < 2) {
+        TimeStepLimit possible = best;
+        best = fallback;
+        consider_pair(materials.pair(a, b), light[a], &light[b],
+                      materials[a].name + "-" + materials[b].name + " contacts, which cannot occur");
+        fallback = best;
+        best = possible;
+        continue;
+      }
       consider_pair(materials.pair(a, b), light[a], &light[b],
                     materials[a].name + "-" + materials[b].name + " contacts");
     }
     for (const auto& w : walls)
       consider_pair(materials.pair(a, w.material), light[a], nullptr,
                     materials[a].name + " on wall '" + w.name + "'");
+  }
+  if (!std::isfinite(best.limit) && std::isfinite(fallback.limit)) {
+    fallback.contact_possible = false;
+    return fallback;
   }
   return best;
 }

@@ -22,6 +22,10 @@ namespace mfdem::dem {
 struct TimeStepLimit {
   double limit = 0.0;   // s
   std::string reason;   // which contact and body set it
+  // False when no contact can occur (a lone body of its material, no walls): the limit is then
+  // what a contact of its material would need, a step for the automatic choice, and a given step
+  // above it is no danger.
+  bool contact_possible = true;
 };
 
 TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,

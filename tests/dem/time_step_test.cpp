@@ -87,3 +87,21 @@ TEST_CASE("critical step of a sphere with rolling resistance on a stiff wall: th
   CHECK_THAT(limit.limit, Catch::Matchers::WithinRel(2.0 / std::sqrt(w2), 1e-9));
   CHECK_THAT(limit.reason, Contains("on wall 'floor'"));
 }
+
+TEST_CASE("a contact type that cannot occur does not limit the step: a lone sphere with no walls",
+          "[dem][time_step]") {
+  MaterialParameters p;
+  p.rolling_friction = 0.3;
+  const auto make = [&](int spheres) {
+    Simulation sim(box_domain(Vec3::Constant(-1.0), Vec3::Constant(1.0)), material_table({p}),
+                   settings(Vec3(0, 0, -kGravity), 1e-3));  // far above any contact's limit (about 1e-5 s)
+    for (int k = 0; k < spheres; ++k) sim.add_sphere({Vec3(0.3 * k, 0, 0), Vec3::Zero(), Vec3::Zero(), 0.02, 0});
+    return sim;
+  };
+  Simulation alone = make(1);
+  CHECK_NOTHROW(alone.prepare());  // nothing it can touch: the given step stands
+  CHECK_FALSE(alone.time_step_limit().contact_possible);
+  CHECK(alone.time_step() == 1e-3);
+  Simulation pair = make(2);
+  CHECK_THROWS_WITH(pair.prepare(), Contains("above the stability limit") && Contains("ballast-ballast"));
+}
