@@ -1,5 +1,7 @@
 #include "studies/scene/scene_file.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -89,6 +91,23 @@ void read_state_file(const Section& s, Scene& scene) {
     if (dynamic_cast<const config::ConfigError*>(&e)) throw;
     s.fail("path", fmt::format("an mfdem state file ({})", e.what()));
   }
+  // Every number of the frame reaches the solver: a NaN, a zero mass or radius is the file's fault.
+  const auto finite = [](const dem::Vec3& v) { return v.allFinite(); };
+  for (std::size_t b = 0; b < f.position.size(); ++b) {
+    if (!finite(f.position[b]) || !finite(f.velocity[b]) || !finite(f.angular_velocity[b]))
+      s.fail("path", fmt::format("finite positions and velocities ({} frame {}: body {} has {:.6g}, {:.6g}, {:.6g} "
+                                 "at velocity {:.6g}, {:.6g}, {:.6g})",
+                                 file.string(), frame, b, f.position[b].x(), f.position[b].y(), f.position[b].z(),
+                                 f.velocity[b].x(), f.velocity[b].y(), f.velocity[b].z()));
+    if (!(f.mass[b] > 0.0) || !std::isfinite(f.mass[b]) || !(f.inertia[b].minCoeff() > 0.0) || !finite(f.inertia[b]))
+      s.fail("path", fmt::format("a positive, finite mass and inertia of every body ({}: body {} has mass {:.6g} kg, "
+                                 "inertia {:.6g}, {:.6g}, {:.6g} kg m^2)",
+                                 file.string(), b, f.mass[b], f.inertia[b].x(), f.inertia[b].y(), f.inertia[b].z()));
+  }
+  for (std::size_t e = 0; e < f.element_radius.size(); ++e)
+    if (!(f.element_radius[e] > 0.0) || !std::isfinite(f.element_radius[e]) || !finite(f.element_offset[e]))
+      s.fail("path", fmt::format("a positive, finite radius and offset of every element ({}: element {} has radius "
+                                 "{:.6g} m)", file.string(), e, f.element_radius[e]));
   std::vector<int> material_of;
   for (const auto& name : f.material_names) {
     const int m = scene.materials.index_of(name);

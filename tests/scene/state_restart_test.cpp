@@ -115,3 +115,47 @@ path = "state.h5"
   CHECK_THROWS_WITH(scene::load_scene(scene_file), Catch::Contains("material 'granite'") &&
                                                        Catch::Contains("restart.toml:13"));
 }
+
+TEST_CASE("a state file with a NaN position or a zero mass is refused naming the file, the body and the value",
+          "[scene][restart]") {
+  test::TempDir dir;
+  dem::MaterialTable materials;
+  dem::Material ballast;
+  ballast.name = "ballast";
+  materials.add(ballast);
+  const auto scene_file = dir.path() / "restart.toml";
+  std::ofstream(scene_file) << R"(
+[simulation]
+duration = 0.01
+[domain]
+min = [0, 0, 0]
+max = [1, 1, 1]
+[materials.ballast]
+density = 2800.0
+normal_stiffness = 2e7
+shear_stiffness = 2e7
+friction = 0.5
+[[state_file]]
+path = "state.h5"
+)";
+  const auto write_state = [&](const dem::Vec3& position, double mass = -1.0) {
+    dem::Simulation sim(dem::Domain{}, materials, dem::SimulationSettings{});
+    dem::SphereSpec s;
+    s.position = dem::Vec3(0.5, 0.5, 0.5);
+    sim.add_sphere(s);
+    s.position = dem::Vec3(0.2, 0.5, 0.5);
+    sim.add_sphere(s);
+    sim.mutable_bodies().position[1] = position;  // as a damaged or hand-edited file holds it
+    if (mass >= 0.0) sim.mutable_bodies().mass[1] = mass;
+    dem::StateFile state(dir.path() / "state.h5", sim, "test");
+    state.write_frame(sim);
+  };
+  write_state(dem::Vec3(0.2, std::nan(""), 0.5));
+  CHECK_THROWS_WITH(scene::load_scene(scene_file), Catch::Contains("state.h5") && Catch::Contains("body 1") &&
+                                                       Catch::Contains("nan") && Catch::Contains("finite positions"));
+  write_state(dem::Vec3(0.2, 0.5, 0.5), 0.0);
+  CHECK_THROWS_WITH(scene::load_scene(scene_file), Catch::Contains("state.h5") && Catch::Contains("body 1") &&
+                                                       Catch::Contains("mass 0 kg"));
+  write_state(dem::Vec3(0.2, 0.5, 0.5));
+  CHECK_NOTHROW(scene::load_scene(scene_file));
+}
