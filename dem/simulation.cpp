@@ -122,7 +122,7 @@ void Simulation::prepare() {
   const double given = settings_.time_step;
   if (given > 0.0) {
     if (given > limit_.limit && limit_.contact_possible && !settings_.force_time_step)
-      throw std::invalid_argument(fmt::format(
+      throw TimeStepAboveLimitError(fmt::format(
           "time step {:.4g} s is above the stability limit {:.4g} s set by the {}; use a step "
           "<= {:.4g} s (automatic: {:.2g} x limit = {:.4g} s) or force it",
           given, limit_.limit, limit_.reason, limit_.limit, settings_.time_step_safety,

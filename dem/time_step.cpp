@@ -60,22 +60,23 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
 
   TimeStepLimit best{std::numeric_limits<double>::infinity(), "no contacts possible"};
   TimeStepLimit fallback = best;
-  auto consider = [&](double omega2, double beta, const std::string& what) {
+  // Lowers `into` to the limit of a mode of squared frequency omega2 when that is smaller.
+  auto consider = [](TimeStepLimit& into, double omega2, double beta, const std::string& what) {
     if (omega2 <= 0.0) return;
     const double dt = 2.0 / std::sqrt(omega2) * damped_factor(beta);
-    if (dt < best.limit) best = {dt, what};
+    if (dt < into.limit) into = {dt, what};
   };
-  auto consider_pair = [&](const PairParameters& p, const Lightest& a, const Lightest* b,
+  auto consider_pair = [&](TimeStepLimit& into, const PairParameters& p, const Lightest& a, const Lightest* b,
                            const std::string& label) {
     // b == nullptr: a wall (infinite mass, no rotation).
     const double inv_m = a.inverse_mass + (b ? b->inverse_mass : 0.0);
     const double inv_mt = a.inverse_tangential_mass + (b ? b->inverse_tangential_mass : 0.0);
     const double rbar = b ? a.radius * b->radius / (a.radius + b->radius) : a.radius;
     const double inv_i = a.inverse_inertia + (b ? b->inverse_inertia : 0.0);
-    consider(p.normal_stiffness * inv_m, p.damping_ratio,
+    consider(into, p.normal_stiffness * inv_m, p.damping_ratio,
              fmt::format("normal spring of {} (kn = {:.3g} N/m, lightest m_eff = {:.3g} kg)",
                          label, p.normal_stiffness, 1.0 / inv_m));
-    consider(p.shear_stiffness * inv_mt, p.damping_ratio,
+    consider(into, p.shear_stiffness * inv_mt, p.damping_ratio,
              fmt::format("shear spring of {} (ks = {:.3g} N/m)", label, p.shear_stiffness));
     // Shear and rolling springs both turn the bodies, so they couple. In the scaled coordinates
     // M^-1/2 x the pair's stiffness is ks s s^T + kr t t^T (s the shear spring's direction, t the
@@ -96,7 +97,7 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
         const double gap = shear_mode - rolling_mode;
         coupled = 0.5 * (shear_mode + rolling_mode + std::sqrt(gap * gap + 4.0 * c2));
       }
-      consider(coupled, p.damping_ratio,
+      consider(into, coupled, p.damping_ratio,
                fmt::format("coupled shear and rolling springs of {} (ks = {:.3g} N/m, "
                            "mu_r = {:.3g})",
                            label, p.shear_stiffness, p.rolling_friction));
@@ -108,20 +109,13 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     for (int b = a; b < nm; ++b) {
       if (!light[b].present) continue;
       // A lone body of a material never touches its like: its pair only sets the fallback.
-      if (b == a && light[a].bodies < 2) {
-        TimeStepLimit possible = best;
-        best = fallback;
-        consider_pair(materials.pair(a, b), light[a], &light[b],
-                      materials[a].name + "-" + materials[b].name + " contacts, which cannot occur");
-        fallback = best;
-        best = possible;
-        continue;
-      }
-      consider_pair(materials.pair(a, b), light[a], &light[b],
-                    materials[a].name + "-" + materials[b].name + " contacts");
+      const bool possible = b != a || light[a].bodies >= 2;
+      consider_pair(possible ? best : fallback, materials.pair(a, b), light[a], &light[b],
+                    materials[a].name + "-" + materials[b].name +
+                        (possible ? " contacts" : " contacts, which cannot occur"));
     }
     for (const auto& w : walls)
-      consider_pair(materials.pair(a, w.material), light[a], nullptr,
+      consider_pair(best, materials.pair(a, w.material), light[a], nullptr,
                     materials[a].name + " on wall '" + w.name + "'");
   }
   if (!std::isfinite(best.limit) && std::isfinite(fallback.limit)) {

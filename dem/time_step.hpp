@@ -10,6 +10,7 @@
 // the limit. A packed bed (several contacts per body) needs a safety factor below
 // one: the automatic step is safety x limit, 0.2 by default (PFC and LIGGGHTS users take
 // 0.1-0.3 of the Rayleigh or spring limit).
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ struct TimeStepLimit {
   // what a contact of its material would need, a step for the automatic choice, and a given step
   // above it is no danger.
   bool contact_possible = true;
+};
+
+// A given time step above the limit (Simulation::prepare without force_time_step): an input error
+// the caller names with the key or option that forces it.
+class TimeStepAboveLimitError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
 };
 
 TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,

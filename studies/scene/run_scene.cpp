@@ -81,15 +81,16 @@ void write_summary(const std::filesystem::path& file, const scene::Scene& scene,
 
 }  // namespace
 
-// What the solver refuses when a scene is set up (a time step above the stability limit), as the
-// scene's error: its file, and for the time step the key and option that force it.
-std::string setup_refusal(const std::filesystem::path& file, const std::invalid_argument& e) {
-  std::string message = fmt::format("{}: {}", file.string(), e.what());
-  if (message.find("above the stability limit") != std::string::npos)
-    message = fmt::format("{}: [simulation] time_step: {} ([simulation] force_time_step = true, or `mfdem run "
-                          "--force-dt`)", file.string(), e.what());
-  return message;
+namespace {
+
+// A given time step above the solver's limit, as the scene's error: its file, the key, and the
+// key and option that force it.
+std::string time_step_refusal(const std::filesystem::path& file, const dem::TimeStepAboveLimitError& e) {
+  return fmt::format("{}: [simulation] time_step: {} ([simulation] force_time_step = true, or `mfdem run --force-dt`)",
+                     file.string(), e.what());
 }
+
+}  // namespace
 
 void check_scene_file(const std::filesystem::path& file) {
   const scene::Scene s = scene::load_scene(file);
@@ -98,8 +99,10 @@ void check_scene_file(const std::filesystem::path& file) {
     sim.prepare();  // also refuses an unstable time step
   } catch (const dem::InitialOverlapError& e) {
     throw config::ConfigError(fmt::format("{}: {}; place them apart", file.string(), e.what()));
+  } catch (const dem::TimeStepAboveLimitError& e) {
+    throw config::ConfigError(time_step_refusal(file, e));
   } catch (const std::invalid_argument& e) {
-    throw config::ConfigError(setup_refusal(file, e));
+    throw config::ConfigError(fmt::format("{}: {}", file.string(), e.what()));
   }
   step_plan(s, sim, file);
 }
@@ -113,8 +116,11 @@ int run_scene_command(const RunOptions& options) {
   dem::Simulation sim = scene::make_simulation(s);
   try {
     sim.prepare();
+  } catch (const dem::TimeStepAboveLimitError& e) {
+    std::cerr << "mfdem: error: " << time_step_refusal(options.scene, e) << "\n";
+    return 2;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "mfdem: error: " << setup_refusal(options.scene, e) << "\n";
+    std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "\n";
     return 2;
   } catch (const dem::InitialOverlapError& e) {  // bodies the scene placed overlapping: its input
     std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "; place them apart\n";

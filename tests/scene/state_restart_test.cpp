@@ -4,12 +4,25 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "dem/state_file.hpp"
 #include "studies/scene/scene_file.hpp"
 #include "tests/support/temp_dir.hpp"
 
 using namespace mfdem;
+
+namespace {
+
+// A scene of one ballast material whose bodies all come from state.h5 beside it ([[state_file]]
+// on line 13), in the domain [0, domain_max].
+void write_restart_scene(const std::filesystem::path& file, const std::string& domain_max) {
+  std::ofstream(file) << "\n[simulation]\nduration = 0.01\n[domain]\nmin = [0, 0, 0]\nmax = " << domain_max
+                      << "\n[materials.ballast]\ndensity = 2800.0\nnormal_stiffness = 2e7\nshear_stiffness = 2e7\n"
+                         "friction = 0.5\n[[state_file]]\npath = \"state.h5\"\n";
+}
+
+}  // namespace
 
 TEST_CASE("a scene restarted from a saved frame holds exactly the saved bodies", "[scene][restart]") {
   // Reference: the saved frame itself. Positions, velocities, orientations, masses, inertias
@@ -54,20 +67,7 @@ material = "ballast"
     state.write_frame(sim);
   }
   const auto restart = dir.path() / "restart.toml";
-  std::ofstream(restart) << R"(
-[simulation]
-duration = 0.01
-[domain]
-min = [0, 0, 0]
-max = [0.4, 0.4, 0.8]
-[materials.ballast]
-density = 2800.0
-normal_stiffness = 2e7
-shear_stiffness = 2e7
-friction = 0.5
-[[state_file]]
-path = "state.h5"
-)";
+  write_restart_scene(restart, "[0.4, 0.4, 0.8]");
   const scene::Scene second = scene::load_scene(restart);
   dem::Simulation again = scene::make_simulation(second);
   const dem::Bodies& a = sim.bodies();
@@ -98,20 +98,7 @@ TEST_CASE("a state file with a material the scene lacks is refused by name", "[s
     state.write_frame(sim);
   }
   const auto scene_file = dir.path() / "restart.toml";
-  std::ofstream(scene_file) << R"(
-[simulation]
-duration = 0.01
-[domain]
-min = [0, 0, 0]
-max = [1, 1, 1]
-[materials.ballast]
-density = 2800.0
-normal_stiffness = 2e7
-shear_stiffness = 2e7
-friction = 0.5
-[[state_file]]
-path = "state.h5"
-)";
+  write_restart_scene(scene_file, "[1, 1, 1]");
   CHECK_THROWS_WITH(scene::load_scene(scene_file), Catch::Contains("material 'granite'") &&
                                                        Catch::Contains("restart.toml:13"));
 }
@@ -124,20 +111,7 @@ TEST_CASE("a state file with a NaN position or a zero mass is refused naming the
   ballast.name = "ballast";
   materials.add(ballast);
   const auto scene_file = dir.path() / "restart.toml";
-  std::ofstream(scene_file) << R"(
-[simulation]
-duration = 0.01
-[domain]
-min = [0, 0, 0]
-max = [1, 1, 1]
-[materials.ballast]
-density = 2800.0
-normal_stiffness = 2e7
-shear_stiffness = 2e7
-friction = 0.5
-[[state_file]]
-path = "state.h5"
-)";
+  write_restart_scene(scene_file, "[1, 1, 1]");
   const auto write_state = [&](const dem::Vec3& position, double mass = -1.0) {
     dem::Simulation sim(dem::Domain{}, materials, dem::SimulationSettings{});
     dem::SphereSpec s;

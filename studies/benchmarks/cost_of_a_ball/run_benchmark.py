@@ -18,11 +18,9 @@ STORE is the --out folder of `mfdem compare` (its runs of the seed, in compare.c
 from __future__ import annotations
 
 import argparse
-import csv
 import statistics
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -35,14 +33,10 @@ from mfdem import files, tables  # noqa: E402
 
 def runs_of_seed(store: Path, seed: int) -> list[dict]:
     """The store's finished runs of `seed`, in the model order of compare.csv (the reference first)."""
-    order = [row["model"] for row in csv.DictReader(open(store / "compare.csv"))] \
+    order = [row["model"] for row in files.read_csv(store / "compare.csv")] \
         if (store / "compare.csv").exists() else []
-    runs = []
-    for record_file in sorted((store / "runs").glob("*/run.toml")):
-        with open(record_file, "rb") as f:
-            record = tomllib.load(f)
-        if record["status"] == "finished" and int(record["numbers"]["seed"]) == seed:
-            runs.append({"model": record["labels"]["model"], "folder": record_file.parent})
+    runs = [{"model": r["labels"]["model"], "folder": store / "runs" / r["key"]} for r in files.read_store(store)
+            if r["status"] == "finished" and int(r["numbers"]["seed"]) == seed]
     runs.sort(key=lambda r: order.index(r["model"]) if r["model"] in order else len(order))
     if not runs:
         raise BenchmarkError(f"{rel(store)}: no finished run of seed {seed} (run `mfdem compare` first)")

@@ -20,11 +20,15 @@ def _group(node) -> dict:
     return {k: node[k][...] for k in node if isinstance(node[k], h5py.Dataset)}
 
 
+def _in_folder(path, name) -> Path:
+    """`path` itself, or the file `name` in it when it is a folder."""
+    path = Path(path)
+    return path / name if path.is_dir() else path
+
+
 def read_push(path) -> dict:
     """A push.h5 (or the folder holding it): attrs, curve, network, end_state, model."""
-    path = Path(path)
-    if path.is_dir():
-        path = path / "push.h5"
+    path = _in_folder(path, "push.h5")
     with h5py.File(path, "r") as f:
         if "curve" not in f:
             raise ValueError(f"{path}: no /curve group (not a push.h5)")
@@ -46,9 +50,7 @@ def packing_path(folder) -> Path:
 
 def read_packing(path, frames: bool = False) -> dict:
     """A packing.h5 (or checkpoint.h5): the packing attrs, sleeper, sizes, stages, last frame."""
-    path = Path(path)
-    if path.is_dir():
-        path = path / "packing.h5"
+    path = _in_folder(path, "packing.h5")
     with h5py.File(path, "r") as f:
         if "packing" not in f:
             raise ValueError(f"{path}: no /packing group (not a packing file)")
@@ -73,9 +75,7 @@ def read_packing(path, frames: bool = False) -> dict:
 
 def read_run_record(path) -> dict:
     """A run store's run.toml (or the run folder holding it)."""
-    path = Path(path)
-    if path.is_dir():
-        path = path / "run.toml"
+    path = _in_folder(path, "run.toml")
     with open(path, "rb") as f:
         return tomllib.load(f)
 
