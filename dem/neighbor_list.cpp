@@ -1,5 +1,7 @@
 #include "dem/neighbor_list.hpp"
 
+#include <fmt/format.h>
+
 #include <omp.h>
 
 #include <algorithm>
@@ -8,6 +10,14 @@
 #include <string>
 
 namespace mfdem::dem {
+
+PeriodicBoxTooShortError::PeriodicBoxTooShortError(int axis_, double length_, double shortest_)
+    : std::invalid_argument(fmt::format("periodic box length along axis {} ({:.6g} m) must be at least 2 x "
+                                        "(largest diameter + skin) = {:.6g} m",
+                                        "xyz"[axis_], length_, shortest_)),
+      axis(axis_),
+      length(length_),
+      shortest(shortest_) {}
 namespace {
 
 void finish_csr(PairList& list, Index element_count) {
@@ -51,10 +61,7 @@ PairList build_pair_list(const Elements& elements, const Domain& domain, double 
     // scan that meets a cell twice through two images keeps at most one. A ball of equal volume
     // is wider than any pebble of its clump: three reaches did not fit mini's 0.2 m section.
     if (domain.periodic[a] && length[a] < shortest_periodic_length(largest, skin))
-      throw std::invalid_argument(
-          "periodic box length along axis " + std::string(1, "xyz"[a]) + " (" +
-          std::to_string(length[a]) + " m) must be at least 2 x (largest diameter + skin) = " +
-          std::to_string(shortest_periodic_length(largest, skin)) + " m");
+      throw PeriodicBoxTooShortError(a, length[a], shortest_periodic_length(largest, skin));
   }
   // A sparse scene in a large box (a few bodies in a tall domain) gets larger cells: at most
   // about eight cells per element, and never fewer than a million allowed.

@@ -7,6 +7,7 @@
 // Periodic images: a pair stores the integer image of j (in box lengths) that is closest to i.
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "dem/bodies.hpp"
@@ -39,6 +40,14 @@ inline constexpr double kPeriodicReaches = 2.0;
 inline double shortest_periodic_length(double largest_radius, double skin) {
   return kPeriodicReaches * (2.0 * largest_radius + skin);
 }
+
+// A periodic axis shorter than shortest_periodic_length: the domain's fault, named by axis.
+class PeriodicBoxTooShortError : public std::invalid_argument {
+ public:
+  PeriodicBoxTooShortError(int axis, double length, double shortest);
+  int axis;
+  double length, shortest;  // m
+};
 
 // Cell-list search; deterministic: the result does not depend on the number of threads.
 PairList build_pair_list(const Elements& elements, const Domain& domain, double skin);

@@ -5,6 +5,7 @@
 
 #include "dem/hdf5_io.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -202,6 +203,32 @@ void write_xdmf_companion(const std::filesystem::path& path) {
   const auto elements = static_cast<long long>(read_doubles(file, "elements/radius").size());
   H5Fclose(file);
   write_xdmf_file(path, times, elements);
+}
+
+void require_valid_frame(const StateFrame& f) {
+  const auto finite = [](const Vec3& v) { return v.allFinite(); };
+  const auto positive = [](double x) { return x > 0.0 && std::isfinite(x); };
+  for (std::size_t b = 0; b < f.position.size(); ++b) {
+    if (!finite(f.position[b]) || !finite(f.velocity[b]) || !finite(f.angular_velocity[b]) ||
+        !f.orientation[b].coeffs().allFinite())
+      throw std::invalid_argument(fmt::format(
+          "finite positions, velocities and orientations (frame at t = {:.6g} s: body {} has position {:.6g}, {:.6g}, "
+          "{:.6g} m, velocity {:.6g}, {:.6g}, {:.6g} m/s, angular velocity {:.6g}, {:.6g}, {:.6g} rad/s)",
+          f.time, b, f.position[b].x(), f.position[b].y(), f.position[b].z(), f.velocity[b].x(), f.velocity[b].y(),
+          f.velocity[b].z(), f.angular_velocity[b].x(), f.angular_velocity[b].y(), f.angular_velocity[b].z()));
+    if (!positive(f.mass[b]) || !positive(f.inertia[b].minCoeff()) || !finite(f.inertia[b]))
+      throw std::invalid_argument(fmt::format(
+          "a positive, finite mass and inertia of every body (body {} has mass {:.6g} kg, inertia {:.6g}, {:.6g}, "
+          "{:.6g} kg m^2)",
+          b, f.mass[b], f.inertia[b].x(), f.inertia[b].y(), f.inertia[b].z()));
+  }
+  for (std::size_t e = 0; e < f.element_radius.size(); ++e)
+    if (!positive(f.element_radius[e]) || !finite(f.element_offset[e]))
+      throw std::invalid_argument(fmt::format(
+          "a positive, finite radius and offset of every element (element {} of body {} has radius {:.6g} m, "
+          "offset {:.6g}, {:.6g}, {:.6g} m)",
+          e, f.element_body[e], f.element_radius[e], f.element_offset[e].x(), f.element_offset[e].y(),
+          f.element_offset[e].z()));
 }
 
 std::vector<ClumpSpec> bodies_of(const StateFrame& f, const std::vector<int>& material_of) {

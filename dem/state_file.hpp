@@ -85,5 +85,10 @@ StateFrame read_frame(const std::filesystem::path& path, int frame);
 // clump at its centre, which the solver treats exactly as a sphere). material_of maps the
 // file's material indices to the new simulation's.
 std::vector<ClumpSpec> bodies_of(const StateFrame& frame, const std::vector<int>& material_of);
+// Every number of a frame that reaches the solver: throws std::invalid_argument naming the first
+// body or element with a position, velocity or orientation that is not finite, or a mass,
+// inertia or radius that is not positive and finite (a hand-edited or corrupted file). The
+// caller adds the file's name.
+void require_valid_frame(const StateFrame& frame);
 
 }  // namespace mfdem::dem

@@ -9,6 +9,7 @@
 
 #include "dem/hdf5_io.hpp"
 #include "dem/state_file.hpp"
+#include "studies/config/config_error.hpp"
 #include "studies/railway/section_simulation.hpp"
 
 namespace mfdem::railway {
@@ -297,6 +298,12 @@ Packing load_packing(const std::filesystem::path& path) {
   H5Fclose(file);
   const int frames = dem::count_frames(path);
   const dem::StateFrame frame = dem::read_frame(path, frames - 1);
+  try {
+    dem::require_valid_frame(frame);
+  } catch (const std::invalid_argument& e) {
+    // The file is the user's input: exit status 2, as for a config that names a wrong value.
+    throw config::ConfigError(fmt::format("{}: expected a packing with {}", path.string(), e.what()));
+  }
   // The packing's materials are ballast, sleeper, floor (and ball) in that order (section_simulation.hpp).
   std::vector<int> material_of;
   for (const auto& name : frame.material_names)

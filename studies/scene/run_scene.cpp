@@ -83,11 +83,25 @@ void write_summary(const std::filesystem::path& file, const scene::Scene& scene,
 
 namespace {
 
-// A given time step above the solver's limit, as the scene's error: its file, the key, and the
-// key and option that force it.
-std::string time_step_refusal(const std::filesystem::path& file, const dem::TimeStepAboveLimitError& e) {
-  return fmt::format("{}: [simulation] time_step: {} ([simulation] force_time_step = true, or `mfdem run --force-dt`)",
-                     file.string(), e.what());
+// Prepares the scene's solver; what the solver refuses at set-up is the scene's error, named with
+// its file, the key to change and (for the time step) the key and option that force it.
+void prepare_scene(dem::Simulation& sim, const std::filesystem::path& file) {
+  try {
+    sim.prepare();
+  } catch (const dem::InitialOverlapError& e) {
+    throw config::ConfigError(fmt::format("{}: {}; place them apart", file.string(), e.what()));
+  } catch (const dem::TimeStepAboveLimitError& e) {
+    throw config::ConfigError(fmt::format(
+        "{}: [simulation] time_step: {} ([simulation] force_time_step = true, or `mfdem run --force-dt`)",
+        file.string(), e.what()));
+  } catch (const dem::PeriodicBoxTooShortError& e) {
+    throw config::ConfigError(fmt::format(
+        "{}: [domain] min, max along {}: the periodic length {:.6g} m is below {:.6g} m, twice the largest "
+        "diameter plus the skin; lengthen the domain along {} or drop \"{}\" from [domain] periodic",
+        file.string(), "xyz"[e.axis], e.length, e.shortest, "xyz"[e.axis], "xyz"[e.axis]));
+  } catch (const std::invalid_argument& e) {
+    throw config::ConfigError(fmt::format("{}: {}", file.string(), e.what()));
+  }
 }
 
 }  // namespace
@@ -95,15 +109,7 @@ std::string time_step_refusal(const std::filesystem::path& file, const dem::Time
 void check_scene_file(const std::filesystem::path& file) {
   const scene::Scene s = scene::load_scene(file);
   dem::Simulation sim = scene::make_simulation(s);
-  try {
-    sim.prepare();  // also refuses an unstable time step
-  } catch (const dem::InitialOverlapError& e) {
-    throw config::ConfigError(fmt::format("{}: {}; place them apart", file.string(), e.what()));
-  } catch (const dem::TimeStepAboveLimitError& e) {
-    throw config::ConfigError(time_step_refusal(file, e));
-  } catch (const std::invalid_argument& e) {
-    throw config::ConfigError(fmt::format("{}: {}", file.string(), e.what()));
-  }
+  prepare_scene(sim, file);
   step_plan(s, sim, file);
 }
 
@@ -115,15 +121,9 @@ int run_scene_command(const RunOptions& options) {
   if (options.force_dt) s.settings.force_time_step = true;
   dem::Simulation sim = scene::make_simulation(s);
   try {
-    sim.prepare();
-  } catch (const dem::TimeStepAboveLimitError& e) {
-    std::cerr << "mfdem: error: " << time_step_refusal(options.scene, e) << "\n";
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "\n";
-    return 2;
-  } catch (const dem::InitialOverlapError& e) {  // bodies the scene placed overlapping: its input
-    std::cerr << "mfdem: error: " << options.scene.string() << ": " << e.what() << "; place them apart\n";
+    prepare_scene(sim, options.scene);
+  } catch (const config::ConfigError& e) {
+    std::cerr << "mfdem: error: " << e.what() << "\n";
     return 2;
   }
   const StepPlan plan = step_plan(s, sim, options.scene);

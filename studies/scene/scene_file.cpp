@@ -8,6 +8,7 @@
 
 #include "dem/state_file.hpp"
 #include "studies/config/config.hpp"
+#include "studies/scene/clump_source.hpp"
 #include "studies/scene/material_keys.hpp"
 #include "studies/scene/sphere_sources.hpp"
 #include "studies/scene/stone_sources.hpp"
@@ -91,23 +92,11 @@ void read_state_file(const Section& s, Scene& scene) {
     if (dynamic_cast<const config::ConfigError*>(&e)) throw;
     s.fail("path", fmt::format("an mfdem state file ({})", e.what()));
   }
-  // Every number of the frame reaches the solver: a NaN, a zero mass or radius is the file's fault.
-  const auto finite = [](const dem::Vec3& v) { return v.allFinite(); };
-  for (std::size_t b = 0; b < f.position.size(); ++b) {
-    if (!finite(f.position[b]) || !finite(f.velocity[b]) || !finite(f.angular_velocity[b]))
-      s.fail("path", fmt::format("finite positions and velocities ({} frame {}: body {} has {:.6g}, {:.6g}, {:.6g} "
-                                 "at velocity {:.6g}, {:.6g}, {:.6g})",
-                                 file.string(), frame, b, f.position[b].x(), f.position[b].y(), f.position[b].z(),
-                                 f.velocity[b].x(), f.velocity[b].y(), f.velocity[b].z()));
-    if (!(f.mass[b] > 0.0) || !std::isfinite(f.mass[b]) || !(f.inertia[b].minCoeff() > 0.0) || !finite(f.inertia[b]))
-      s.fail("path", fmt::format("a positive, finite mass and inertia of every body ({}: body {} has mass {:.6g} kg, "
-                                 "inertia {:.6g}, {:.6g}, {:.6g} kg m^2)",
-                                 file.string(), b, f.mass[b], f.inertia[b].x(), f.inertia[b].y(), f.inertia[b].z()));
+  try {
+    dem::require_valid_frame(f);
+  } catch (const std::invalid_argument& e) {
+    s.fail("path", fmt::format("a state file with {} (frame {} of {})", e.what(), frame, file.string()));
   }
-  for (std::size_t e = 0; e < f.element_radius.size(); ++e)
-    if (!(f.element_radius[e] > 0.0) || !std::isfinite(f.element_radius[e]) || !finite(f.element_offset[e]))
-      s.fail("path", fmt::format("a positive, finite radius and offset of every element ({}: element {} has radius "
-                                 "{:.6g} m)", file.string(), e, f.element_radius[e]));
   std::vector<int> material_of;
   for (const auto& name : f.material_names) {
     const int m = scene.materials.index_of(name);
@@ -126,7 +115,7 @@ void read_state_file(const Section& s, Scene& scene) {
 Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t> seed) {
   const Section root = config::load(file);
   root.expect_only({"simulation", "guards", "domain", "materials", "pair", "sphere", "sphere_file", "sphere_group",
-                    "stone_group", "state_file", "wall"});
+                    "clump", "stone_group", "state_file", "wall"});
   Scene scene;
   scene.source = file;
   read_simulation(root.section("simulation"), scene);
@@ -150,6 +139,7 @@ Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t>
     auto more = generate_sphere_group(s, scene.materials, group_seed++);
     scene.spheres.insert(scene.spheres.end(), more.begin(), more.end());
   }
+  for (const auto& s : root.sections("clump")) scene.clumps.push_back(read_clump(s, scene.materials));
   std::int64_t first_stone = 0;
   for (const auto& s : root.sections("stone_group")) {
     auto stones = generate_stone_group(s, scene.materials, scene.seed, first_stone);
@@ -163,7 +153,7 @@ Scene load_scene(const std::filesystem::path& file, std::optional<std::uint64_t>
   root.finish();
   if (scene.spheres.empty() && scene.clumps.empty())
     throw config::ConfigError(file.string() + ": the scene places no bodies; add [[sphere]], "
-                              "[[sphere_file]], [[sphere_group]] or [[stone_group]]");
+                              "[[sphere_file]], [[sphere_group]], [[clump]], [[stone_group]] or [[state_file]]");
   return scene;
 }
 

@@ -43,7 +43,7 @@ TEST_CASE("check refuses a scene the solver would refuse, names file and key, an
   CHECK_THAT(result.out, Contains("OK: " + kScene.string()));  // the next file still checked
 }
 
-TEST_CASE("check names misspelt keys and tables and refuses values out of range", "[cli][check]") {
+TEST_CASE("check names misspelt keys and tables and refuses values out of range or a periodic box too short", "[cli][check]") {
   const mfdem::test::TempDir dir;
   struct Case {
     const char* name;
@@ -56,6 +56,8 @@ TEST_CASE("check names misspelt keys and tables and refuses values out of range"
       {"stiffness", edited("normal_stiffness = 2e7", "normal_stiffness = 1e300"),
        {"materials.small.normal_stiffness = 1e+300", "<= 1e+15"}},
       {"radius", edited("radius = 0.02 ", "radius = 1e300 "), {"sphere[0].radius = 1e+300", "<= 1000"}},
+      {"periodic", edited("max = [0.3, 0.3, 0.2]", "max = [-0.05, 0.3, 0.2]\nperiodic = [\"x\"]"),
+       {"[domain] min, max along x", "periodic length 0.05 m is below", "drop \"x\" from [domain] periodic"}},
   };
   for (const auto& c : cases) {
     const auto file = dir.write(std::string(c.name) + ".toml", c.text);

@@ -3,7 +3,11 @@
 // new run's. Each refusal exits 2 before any work and names the option; each new run replaces
 // the folder's earlier results as a whole.
 #include <catch2/catch.hpp>
+#include <hdf5.h>
 #include <toml++/toml.h>
+
+#include <cmath>
+#include <vector>
 
 #include <filesystem>
 #include <fstream>
@@ -67,6 +71,30 @@ TEST_CASE("a push refuses numbers that are not finite, make no step, or a seed o
     CHECK_THAT(checkpoint.err, Contains("checkpoint.h5 is a checkpoint") && Contains("not a finished packing") &&
                                    Contains("--resume"));
   }
+  // A packing whose last frame holds a NaN position (a damaged or hand-edited file) is refused
+  // naming the file, the body and the value, before the solver sees it.
+  const std::string damaged = (dir.path() / "damaged").string();
+  fs::create_directories(damaged);
+  fs::copy_file(bed + "/packing.h5", damaged + "/packing.h5");
+  {
+    const hid_t file = H5Fopen((damaged + "/packing.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    REQUIRE(file >= 0);
+    const hid_t set = H5Dopen2(file, "frames/000000/position", H5P_DEFAULT);
+    REQUIRE(set >= 0);
+    const hid_t space = H5Dget_space(set);
+    std::vector<double> xyz(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    H5Sclose(space);
+    H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, xyz.data());
+    xyz[3 * 2 + 2] = std::nan("");  // body 2's z
+    H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, xyz.data());
+    H5Dclose(set);
+    H5Fclose(file);
+  }
+  const auto nan_position = run_mfdem({"push", damaged, "--out", out, "-q"});
+  CAPTURE(nan_position.err);
+  CHECK(nan_position.status == 2);
+  CHECK_THAT(nan_position.err, Contains(damaged + "/packing.h5") && Contains("body 2") && Contains("nan m") &&
+                                   Contains("finite positions"));
   const auto seeded = run_mfdem({"push", bed, "--seed", "5", "--out", out, "-q"});
   CHECK(seeded.status == 2);
   CHECK_THAT(seeded.err, Contains("--seed 5") && Contains("packing's"));
