@@ -1,12 +1,14 @@
 #include "studies/cli/common_options.hpp"
 
 #include <omp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <string>
 
 namespace mfdem::cli {
 
@@ -25,8 +27,12 @@ const CLI::Validator writable_folder(
       }
       if (!std::filesystem::is_directory(existing, error))
         return "'" + text + "': " + existing.string() + " is not a folder";
-      if (access(existing.c_str(), W_OK | X_OK) != 0)
+      // Make and remove a folder there: permission bits say nothing for root, and a read-only
+      // or restricted file system (a mount, /sys) refuses only the attempt itself.
+      const std::filesystem::path probe = existing / (".mfdem-write-probe-" + std::to_string(getpid()));
+      if (mkdir(probe.c_str(), 0700) != 0)
         return "'" + text + "': cannot write into " + existing.string() + " (" + std::strerror(errno) + ")";
+      rmdir(probe.c_str());
       return "";
     },
     "FOLDER");

@@ -4,6 +4,8 @@
 // the folder's earlier results as a whole.
 #include <catch2/catch.hpp>
 #include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -57,6 +59,15 @@ TEST_CASE("a push refuses numbers that are not finite, make no step, or a seed o
   const auto empty_out = run_mfdem({"push-test", config.string(), "--out", ""});
   CHECK(empty_out.status == 2);
   CHECK_THAT(empty_out.err, Contains("--out") && Contains("empty path"));
+  // A folder nobody may write into (/sys refuses even root): refused before the pack starts.
+  if (::mkdir("/sys/mfdem-write-probe", 0700) != 0) {
+    const auto read_only = run_mfdem({"pack", config.string(), "--out", "/sys/mfdem-out", "-q"});
+    CHECK(read_only.status == 2);
+    CHECK_THAT(read_only.err, Contains("--out") && Contains("cannot write into /sys"));
+  } else {
+    ::rmdir("/sys/mfdem-write-probe");
+    WARN("/sys is writable here: the read-only --out refusal is not exercised");
+  }
   const auto file_out = run_mfdem({"push", bed, "--out", bed + "/packing.h5"});
   CHECK(file_out.status == 2);
   CHECK_THAT(file_out.err, Contains("--out") && Contains("is a file"));
@@ -120,7 +131,10 @@ TEST_CASE("a new run replaces the folder's earlier results as a whole, and a ref
   CHECK(fs::exists(bed + "/half_velocity/push.h5"));
 
   // A push without the rate check: the earlier one's second push and its comparison go with it.
-  REQUIRE(run_mfdem({"push", bed, "--distance", "0.2", "--out", bed, "-q", "--threads", "1"}).status == 0);
+  const auto quiet = run_mfdem({"push", bed, "--distance", "0.2", "--out", bed, "-q", "--threads", "1"});
+  REQUIRE(quiet.status == 0);
+  CHECK(quiet.out.empty());  // -q: no table, no progress line
+  CHECK(quiet.err.empty());
   CHECK_FALSE(fs::exists(bed + "/half_velocity"));
   CHECK_FALSE(fs::exists(bed + "/rate_check.toml"));
   CHECK(status_of(bed + "/push_summary.toml") == "finished");
