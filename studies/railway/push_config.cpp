@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "studies/config/config.hpp"
+#include "studies/railway/stone_columns.hpp"
 #include "studies/scene/material_keys.hpp"
 
 namespace mfdem::railway {
@@ -195,7 +196,18 @@ PushStudyConfig load_push_config(const std::string& preset_or_file) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
-  return read(config::load(file), text, file);
+  const Section root = config::load(file);
+  PushStudyConfig c = read(root, text, file);
+  // A section that cannot be built is refused now, naming its key and line, not after the
+  // stones are drawn (a packing stored with its config was checked when it was made).
+  try {
+    validate(c.geometry, StoneFactory(c).upper_size());
+  } catch (const GeometryError& e) {
+    const auto section = root.optional_section("section");
+    const std::string where = section && section->has(e.key) ? section->where(e.key) : file.string();
+    throw config::ConfigError(fmt::format("{}: [section] {}", where, e.what()));
+  }
+  return c;
 }
 
 }  // namespace mfdem::railway

@@ -7,7 +7,9 @@
 // sleeper is centred at x = 0, y = section_length / 2. The ballast surface is flat at the
 // sleeper's top (crib filled to the top) out to the shoulder's edge, then falls with the
 // shoulder slope (horizontal per vertical, 1.5 for 1:1.5) to the floor.
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace mfdem::railway {
 
@@ -33,8 +35,15 @@ struct SectionGeometry {
   bool inside_sleeper(double x, double y, double z) const;
 };
 
+// A geometry that cannot be built; `key` is the [section] key to change.
+class GeometryError : public std::invalid_argument {
+ public:
+  GeometryError(std::string key_, const std::string& what) : std::invalid_argument(what), key(std::move(key_)) {}
+  std::string key;
+};
+
 // Rejects geometry that cannot be built, naming the parameter, its value and what was expected;
-// `largest_stone` is the largest stone's size in m. Throws std::invalid_argument.
+// `largest_stone` is the largest stone's size in m. Throws GeometryError.
 void validate(const SectionGeometry& g, double largest_stone);
 
 }  // namespace mfdem::railway

@@ -68,3 +68,22 @@ TEST_CASE("check names misspelt keys and tables and refuses values out of range 
     for (const auto& e : c.expected) CHECK_THAT(result.err, Contains(e));
   }
 }
+
+TEST_CASE("check validates push-study configs and presets too, with the section geometry", "[cli][check]") {
+  // A push-study config (no [simulation] table) is read as `mfdem pack` reads it; a section too
+  // short for its sleeper is refused naming the line and the key, before any stone is drawn.
+  const mfdem::test::TempDir dir;
+  std::stringstream mini;
+  mini << std::ifstream(fs::path(MFDEM_SOURCE_DIR) / "studies/presets/mini.toml").rdbuf();
+  std::string text = mini.str();
+  const auto at = text.find("section_length = 0.20");
+  REQUIRE(at != std::string::npos);
+  const auto too_short = dir.write("short.toml", text.replace(at, 21, "section_length = 0.10"));
+  const auto result = run_mfdem({"check", too_short.string(), "mini", "standard", "no-such-preset"});
+  CAPTURE(result.out, result.err);
+  CHECK(result.status == 2);
+  CHECK_THAT(result.err, Contains(too_short.string() + ":12: [section] sleeper_width = 0.12 m") &&
+                             Contains("section_length = 0.1 m"));
+  CHECK_THAT(result.out, Contains("OK: mini (push-study config)") && Contains("OK: standard (push-study config)"));
+  CHECK_THAT(result.err, Contains("no-such-preset: no such file, and not a preset"));
+}
