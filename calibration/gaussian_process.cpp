@@ -159,7 +159,16 @@ double GaussianProcess::log_likelihood_at(const Eigen::VectorXd& theta, Eigen::V
 }
 
 void GaussianProcess::fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& values) {
-  take_data(points, values, std::nullopt);
+  search(points, values, std::nullopt);
+}
+
+void GaussianProcess::fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& values, OutputScale scale) {
+  search(points, values, scale);
+}
+
+void GaussianProcess::search(const Eigen::MatrixXd& points, const Eigen::VectorXd& values,
+                             std::optional<OutputScale> scale) {
+  take_data(points, values, scale);
   const auto d = static_cast<int>(bounds_.size());
   // The search box on log scales, and its starts: the first points of an unshifted Sobol design.
   std::vector<Bounds> box;

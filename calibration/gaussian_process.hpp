@@ -62,6 +62,9 @@ class GaussianProcess final : public Surrogate {
   // std::invalid_argument for fewer than 2 points, a point outside the bounds, a point or value
   // that is not finite, or points of the wrong dimension.
   void fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& values) override;
+  // The same search with the standardisation given: likelihoods of several data sets fitted with
+  // one scale compare (co-kriging's choice of its scale factor).
+  void fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& values, OutputScale scale);
   // The process with the hyperparameters given (no search), and the standardisation when given
   // (else the data's mean and sample standard deviation).
   void fit(const Eigen::MatrixXd& points, const Eigen::VectorXd& values, const Hyperparameters& h,
@@ -97,6 +100,7 @@ class GaussianProcess final : public Surrogate {
   std::vector<std::string> notes_;
 
   void take_data(const Eigen::MatrixXd& points, const Eigen::VectorXd& values, std::optional<OutputScale> scale);
+  void search(const Eigen::MatrixXd& points, const Eigen::VectorXd& values, std::optional<OutputScale> scale);
   Eigen::VectorXd to_unit(const Eigen::VectorXd& point) const;
   Eigen::MatrixXd covariance(const Hyperparameters& h) const;  // k(X, X) + s2_n I
   void factorise();
