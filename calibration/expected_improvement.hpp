@@ -11,7 +11,17 @@ namespace mfdem::calibration {
 
 double expected_improvement(double incumbent, double mean, double standard_deviation);
 
-// EI x (1 - tau / sqrt(s^2 + tau^2)) with s^2 = variance, tau^2 = noise_variance.
+// The exact EI of a squared scaled error M = ((Y - t) / scale)^2, Y ~ N(m, s^2): the integral
+// of I - M over |Y - t| < scale sqrt(I), in closed form with the normal's partial moments. A
+// one-output misfit is such a square; its normal approximation misjudges it near the target,
+// where M piles up at 0.
+double squared_error_expected_improvement(double incumbent, double mean, double standard_deviation, double target,
+                                          double scale);
+
+// Huang's factor 1 - tau / sqrt(s^2 + tau^2), s^2 = variance, tau^2 = noise_variance (1 without noise).
+double noise_factor(double variance, double noise_variance);
+
+// EI x noise_factor.
 double noise_aware_expected_improvement(double incumbent, double mean, double variance, double noise_variance);
 
 }  // namespace mfdem::calibration

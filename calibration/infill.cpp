@@ -1,5 +1,7 @@
 #include "calibration/infill.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "calibration/expected_improvement.hpp"
@@ -20,6 +22,12 @@ Evaluation believed(const MisfitSurrogate& s, const Eigen::VectorXd& point, Leve
 
 double misfit_expected_improvement(const MisfitSurrogate& surrogate, const Eigen::VectorXd& point) {
   const MisfitPrediction p = surrogate.predict(point);
+  if (surrogate.targets().size() == 1) {  // a single squared error: its exact EI
+    const Prediction y = surrogate.predict_outputs(point).front();
+    const Target& t = surrogate.targets().front();
+    return noise_factor(p.variance, p.noise_variance) * squared_error_expected_improvement(surrogate.incumbent(), y.mean, std::sqrt(y.variance),
+                                                             t.value, t.scale);
+  }
   return noise_aware_expected_improvement(surrogate.incumbent(), p.mean, p.variance, p.noise_variance);
 }
 

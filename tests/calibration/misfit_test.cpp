@@ -88,3 +88,31 @@ TEST_CASE("expected improvement matches its integral, and is zero at a noise-fre
   const double plain = expected_improvement(0.0, 0.05, 0.1);
   CHECK(noise_aware_expected_improvement(0.0, 0.05, 0.01, 0.09) == Approx(plain * (1.0 - 0.3 / std::sqrt(0.1))));
 }
+
+TEST_CASE("the expected improvement of one squared error matches its integral", "[calibration][ei]") {
+  // E[max(I - ((Y - t) / c)^2, 0)], Y ~ N(m, s^2), by adaptive quadrature over |y - t| < c sqrt(I).
+  struct Case {
+    double incumbent, mean, sd, target, scale;
+  };
+  for (const Case c : {Case{0.04, 1.05, 0.1, 1.0, 1.0}, Case{0.01, 0.7, 0.2, 1.0, 1.0}, Case{0.5, -3.0, 1.0, -3.86, 3.86},
+                       Case{1e-4, 2.0, 1e-3, 2.0, 2.0}}) {
+    gsl_function f;
+    f.function = [](double y, void* p) {
+      const auto* c = static_cast<const Case*>(p);
+      const double m = std::pow((y - c->target) / c->scale, 2);
+      return (c->incumbent - m) * gsl_ran_gaussian_pdf(y - c->mean, c->sd);
+    };
+    f.params = const_cast<Case*>(&c);
+    std::unique_ptr<gsl_integration_workspace, decltype(&gsl_integration_workspace_free)> w(
+        gsl_integration_workspace_alloc(1000), gsl_integration_workspace_free);
+    const double r = c.scale * std::sqrt(c.incumbent);
+    double integral = 0.0, error = 0.0;
+    gsl_integration_qags(&f, c.target - r, c.target + r, 0.0, 1e-12, 1000, w.get(), &integral, &error);
+    CAPTURE(c.incumbent, c.mean, c.sd, integral);
+    CHECK(squared_error_expected_improvement(c.incumbent, c.mean, c.sd, c.target, c.scale) ==
+          Approx(integral).epsilon(1e-8).margin(1e-15));
+  }
+  // Certain outputs: the gain itself, or nothing.
+  CHECK(squared_error_expected_improvement(0.04, 1.1, 0.0, 1.0, 1.0) == Approx(0.03));
+  CHECK(squared_error_expected_improvement(0.04, 1.3, 0.0, 1.0, 1.0) == 0.0);
+}
