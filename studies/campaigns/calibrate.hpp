@@ -1,0 +1,108 @@
+#pragma once
+// `mfdem calibrate`: the ball layer's parameters (its rolling friction mu_r, the layer height h or
+// zone distance d, optionally the balls' friction) fitted so that the multi-layer model's peak
+// lateral force and maximum contact force match the all-clump reference, with the calibration
+// loop of calibration/ (surrogates, expected improvement, posterior) over DEM runs in the store.
+//
+// A candidate is the policy with its parameters; it is run on the same seeds as every other
+// candidate (paired, so the packings' scatter cancels in the comparison) and its outputs are the
+// means over those seeds. The reference is the all-clump model on the same seeds (or numbers the
+// user gives). The saving is bounded by the parameters' ranges: the lowest layer height (the
+// largest zone distance) a candidate may take still turns stones into balls; a range that
+// allows no ball, or lies outside the bed, is refused.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calibration/calibration_loop.hpp"
+#include "calibration/posterior.hpp"
+#include "studies/campaigns/paired_statistics.hpp"
+#include "studies/campaigns/push_runs.hpp"
+
+namespace mfdem::campaigns {
+
+struct CalibrationParameter {
+  std::string name;  // mu_r, ball_mu, or a parameter of the policy (h, h_fraction, d)
+  double lower = 0.0, upper = 0.0;
+};
+
+// "mu_r=0:0.6,h_fraction=0.3:0.9" for `policy`; throws config::ConfigError naming `option` and the
+// value for a malformed entry, an unknown name, an empty range, or a range that lets no stone be a
+// ball or lies outside the bed of `config`.
+std::vector<CalibrationParameter> parse_calibration_parameters(const std::string& text, const std::string& policy,
+                                                               const railway::PushStudyConfig& config,
+                                                               const std::string& option);
+
+// The model of a candidate: the policy with the parameters' values written in.
+Model candidate_model(const std::string& policy, const std::vector<CalibrationParameter>& parameters,
+                      const Eigen::VectorXd& values);
+
+// The two outputs a calibration matches, of one run.
+struct RunOutputs {
+  double peak_force = 0.0;     // N
+  double contact_force = 0.0;  // N: the maximum, or its 99.9 % quantile
+  double push_wall = 0.0;      // s
+};
+
+// Where the runs come from: DEM pushes in the store (PushRunner), or a stand-in in tests.
+class CandidateRunner {
+ public:
+  virtual ~CandidateRunner() = default;
+  // The run of `model` on `seed` at a level, found in the store or computed there; throws
+  // std::runtime_error naming the run when it failed.
+  virtual RunOutputs run(const Model& model, std::uint64_t seed, calibration::Level level) = 0;
+};
+
+// DEM pushes: the expensive level on `config`, the cheap one (if any) on `cheap_config`.
+class PushRunner final : public CandidateRunner {
+ public:
+  PushRunner(runs::RunStore& store, railway::PushStudyConfig config, std::optional<railway::PushStudyConfig> cheap,
+             RunContext context, bool contact_quantile);
+  RunOutputs run(const Model& model, std::uint64_t seed, calibration::Level level) override;
+
+ private:
+  runs::RunStore& store_;
+  railway::PushStudyConfig config_;
+  std::optional<railway::PushStudyConfig> cheap_;
+  RunContext context_;
+  bool contact_quantile_;
+};
+
+struct CalibrateRequest {
+  std::string policy = "layer-by-height";
+  std::vector<CalibrationParameter> parameters;
+  std::vector<std::uint64_t> seeds = {1, 2, 3};   // every candidate runs on all of them
+  std::vector<std::uint64_t> verify_seeds;        // fresh seeds for the check at the calibrated point
+  std::optional<std::array<double, 2>> reference; // peak and contact force in N; else all-clump runs
+  double budget = 20.0;                           // candidates (expensive-level ones; a cheap one costs cheap_cost)
+  int batch = 1;
+  bool two_levels = false;
+  double cheap_cost = 0.25;
+  std::uint64_t design_seed = 1;
+  double stop_improvement = 1e-5;
+  std::filesystem::path record;                   // the loop's record (OUT/calibration_record.csv)
+};
+
+struct VerificationRow {
+  std::uint64_t seed = 0;
+  RunOutputs model, reference;
+};
+
+struct CalibrateResult {
+  std::array<double, 2> targets{};         // N
+  std::array<double, 2> target_sd{};       // N, of the reference's mean over seeds (0 when given)
+  std::vector<RunOutputs> reference_runs;  // per seed (empty when given)
+  calibration::LoopResult loop;
+  calibration::PosteriorSummary posterior;
+  Eigen::VectorXd calibrated;              // the minimiser of the predicted misfit
+  std::array<calibration::Prediction, 2> predicted{};  // the outputs there
+  std::vector<VerificationRow> verification;
+  MeanInterval peak_difference, contact_difference;    // paired, relative, on the fresh seeds
+};
+
+CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest& request);
+
+}  // namespace mfdem::campaigns

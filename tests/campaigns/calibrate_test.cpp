@@ -1,0 +1,148 @@
+// `mfdem calibrate`'s campaign (studies/campaigns/calibrate.hpp) on a stand-in for the DEM model:
+// an analytic function of (mu_r, h_fraction) with the packing seed's scatter, its runs kept in a
+// run store as DEM runs are. It recovers a synthetic truth, restarts without recomputing, and
+// refuses ranges that cannot be calibrated.
+#include <catch2/catch.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+
+#include "fidelity/policy.hpp"
+#include "studies/campaigns/calibrate.hpp"
+#include "studies/config/config_error.hpp"
+#include "studies/railway/push_config.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using namespace mfdem;
+using campaigns::CalibrationParameter;
+using campaigns::Model;
+using campaigns::RunOutputs;
+
+namespace {
+
+constexpr double kTrueMuR = 0.35, kTrueH = 0.6;
+
+// Peak and contact force of the stand-in at (mu_r, h): both depend on both parameters, with
+// independent directions, so the two targets pin one point.
+std::pair<double, double> stand_in(double mu_r, double h) {
+  return {1000.0 * (0.8 + 0.5 * mu_r - 0.25 * h), 300.0 * (0.7 + 0.2 * mu_r + 0.8 * h * h)};
+}
+
+// A seed's packing shifts every model's outputs alike (paired, 3 %), and each run adds its own
+// small scatter (0.5 %): deterministic pseudo-random numbers of the seed and the model.
+double unit_noise(std::uint64_t a, std::uint64_t b) {
+  const std::uint64_t x = (a * 6364136223846793005ULL + b * 1442695040888963407ULL) ^ (a >> 7);
+  return double((x >> 11) % 2000001) / 1000000.0 - 1.0;  // uniform in [-1, 1]
+}
+
+class StandInRunner final : public campaigns::CandidateRunner {
+ public:
+  StandInRunner(runs::RunStore& store, int fail_after = -1) : store_(store), fail_after_(fail_after) {}
+  int computed = 0;
+
+  RunOutputs run(const Model& model, std::uint64_t seed, calibration::Level) override {
+    const std::string key = runs::folder_name(fmt::format("s{}-{}-{}", seed, model.policy, model.rolling_friction.value_or(-1)));
+    store_.ensure(key, "test", [&](const std::filesystem::path&) {
+      if (computed == fail_after_) throw std::logic_error("killed");  // rethrown: the study stops
+      ++computed;
+      double mu_r = kTrueMuR, h = kTrueH;  // the reference: the truth itself
+      if (model.policy != "all-clump") {
+        mu_r = *model.rolling_friction;
+        h = fidelity::parse_policy_spec(model.policy).parameters.at(0).value;
+      }
+      const auto [peak, contact] = stand_in(mu_r, h);
+      const double shared = 1.0 + 0.03 * unit_noise(seed, 1);
+      const std::uint64_t own = std::hash<std::string>{}(key);
+      runs::RunRecord r;
+      r.numbers = {{"peak_force", peak * shared * (1.0 + 0.005 * unit_noise(own, 2))},
+                   {"max_contact_force", contact * shared * (1.0 + 0.005 * unit_noise(own, 3))},
+                   {"push_wall_seconds", 1.0}};
+      return r;
+    }, [](const std::exception& e) { return dynamic_cast<const std::logic_error*>(&e) != nullptr; });
+    const auto record = store_.find(key);
+    return {*record->number("peak_force"), *record->number("max_contact_force"), 1.0};
+  }
+
+ private:
+  runs::RunStore& store_;
+  int fail_after_;
+};
+
+campaigns::CalibrateRequest stand_in_request(const std::filesystem::path& record) {
+  campaigns::CalibrateRequest r;
+  r.policy = "layer-by-height";
+  r.parameters = {{"mu_r", 0.0, 0.6}, {"h_fraction", 0.2, 0.9}};
+  r.seeds = {1, 2, 3};
+  r.verify_seeds = {11, 12, 13, 14};
+  r.budget = 20;
+  r.record = record;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("calibrate recovers a synthetic truth with intervals that hold it", "[campaigns][calibrate]") {
+  // Reference: the stand-in at (mu_r, h_fraction) = (0.35, 0.6) on the same seeds. Tolerances
+  // of the issue: |d mu_r| <= 0.03, |d h| <= 10 % of its range (0.07).
+  const test::TempDir dir;
+  runs::RunStore store(dir.path() / "store");
+  StandInRunner runner(store);
+  const auto result = campaigns::run_calibration(runner, stand_in_request(dir.path() / "record.csv"));
+  CAPTURE(result.calibrated.transpose(), result.loop.runs.size(), result.loop.stopped_by);
+  CHECK(std::abs(result.calibrated(0) - kTrueMuR) <= 0.03);
+  CHECK(std::abs(result.calibrated(1) - kTrueH) <= 0.07);
+  REQUIRE(result.posterior.intervals.size() == 2);
+  CHECK(result.posterior.intervals[0].lower <= kTrueMuR);
+  CHECK(result.posterior.intervals[0].upper >= kTrueMuR);
+  CHECK(result.posterior.intervals[1].lower <= kTrueH);
+  CHECK(result.posterior.intervals[1].upper >= kTrueH);
+  CHECK(result.loop.cost <= 20.0);
+  // Verified on 4 fresh seeds: the calibrated model within 2 % of the reference on both outputs.
+  REQUIRE(result.verification.size() == 4);
+  CHECK(std::abs(result.peak_difference.mean) < 0.02);
+  CHECK(std::abs(result.contact_difference.mean) < 0.02);
+}
+
+TEST_CASE("a killed calibration restarts from the store and its record and ends the same", "[campaigns][calibrate]") {
+  const test::TempDir dir;
+  runs::RunStore whole_store(dir.path() / "whole");
+  StandInRunner whole_runner(whole_store);
+  const auto whole = campaigns::run_calibration(whole_runner, stand_in_request(dir.path() / "whole.csv"));
+
+  runs::RunStore store(dir.path() / "store");
+  StandInRunner killed(store, 20);
+  CHECK_THROWS_WITH(campaigns::run_calibration(killed, stand_in_request(dir.path() / "record.csv")), "killed");
+  StandInRunner again(store);
+  const auto resumed = campaigns::run_calibration(again, stand_in_request(dir.path() / "record.csv"));
+  CHECK(again.computed == whole_runner.computed - 20);  // no finished run computed twice
+  CHECK(resumed.calibrated == whole.calibrated);
+  CHECK(resumed.loop.runs.size() == whole.loop.runs.size());
+}
+
+TEST_CASE("calibrate refuses parameter ranges that are empty, hold no ball or leave the bed", "[campaigns][calibrate]") {
+  const auto config = railway::load_push_config("mini");
+  const auto refused = [&](const std::string& policy, const std::string& text) {
+    try {
+      campaigns::parse_calibration_parameters(text, policy, config, "--parameters");
+    } catch (const config::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK_THAT(refused("layer-by-height", "mu_r=0.5:0.2,h_fraction=0.3:0.9"),
+             Catch::Contains("--parameters") && Catch::Contains("mu_r=0.5:0.2") && Catch::Contains("empty range"));
+  CHECK_THAT(refused("layer-by-height", "mu_r=0:0.6,h_fraction=0:0.9"),
+             Catch::Contains("h_fraction=0:0.9") && Catch::Contains("leaves no ball"));
+  CHECK_THAT(refused("layer-by-height", "mu_r=0:0.6,h_fraction=0.3:1.5"), Catch::Contains("1.5"));
+  CHECK_THAT(refused("zone-by-distance", "mu_r=0:0.6,d=0.02:5"), Catch::Contains("d=0.02:5") && Catch::Contains("no ball"));
+  CHECK_THAT(refused("layer-by-height", "mu_r=0:0.6,height=0.1:0.2"), Catch::Contains("height"));
+  CHECK_THAT(refused("all-ball", "mu_r=0:0.6"), Catch::Contains("--policy all-ball"));
+  CHECK(refused("layer-by-height", "mu_r=0:0.6,h_fraction=0.3:0.9") == "accepted");
+  // A candidate's model: the calibrated height replaces the policy's own.
+  const Model m = campaigns::candidate_model("layer-by-height:h_fraction=0.5",
+                                             {{"mu_r", 0.0, 0.6}, {"h_fraction", 0.2, 0.9}}, Eigen::Vector2d(0.3, 0.4));
+  CHECK(m.policy == "layer-by-height:h_fraction=0.4");
+  CHECK(*m.rolling_friction == 0.3);
+}
