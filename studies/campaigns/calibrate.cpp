@@ -24,9 +24,10 @@ double farthest_from_sleeper(const railway::SectionGeometry& g) {
 
 RunOutputs mean_of(const std::vector<RunOutputs>& runs) {
   RunOutputs m;
-  for (const auto& r : runs) m.peak_force += r.peak_force, m.contact_force += r.contact_force, m.push_wall += r.push_wall;
+  for (const auto& r : runs)
+    m.peak_force += r.peak_force, m.contact_force += r.contact_force, m.push_wall += r.push_wall, m.wall += r.wall;
   const double n = double(runs.size());
-  m.peak_force /= n, m.contact_force /= n, m.push_wall /= n;
+  m.peak_force /= n, m.contact_force /= n, m.push_wall /= n, m.wall /= n;
   return m;
 }
 
@@ -142,6 +143,7 @@ RunOutputs PushRunner::run(const Model& model, std::uint64_t seed, calibration::
   out.peak_force = record->number(number::kPeakForce).value_or(NAN);
   out.contact_force = record->number(contact_quantile_ ? number::kContactForceQ999 : number::kMaxContactForce).value_or(NAN);
   out.push_wall = record->number(number::kPushWall).value_or(NAN);
+  out.wall = out.push_wall + record->number(number::kPreparationWall).value_or(0.0);
   return out;
 }
 
@@ -179,7 +181,11 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   const auto evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
     std::vector<RunOutputs> per_seed;
-    for (auto seed : request.seeds) per_seed.push_back(runner.run(model, seed, level));
+    for (auto seed : request.seeds) {
+      per_seed.push_back(runner.run(model, seed, level));
+      result.candidates_wall += per_seed.back().wall;
+      ++result.dem_runs;
+    }
     const RunOutputs mean = mean_of(per_seed);
     return Eigen::Vector2d(mean.peak_force, mean.contact_force).eval();
   };
@@ -209,6 +215,10 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
     contact.push_back(row.model.contact_force), contact_reference.push_back(row.reference.contact_force);
     result.verification.push_back(row);
   }
+  std::vector<double> reference_walls;
+  for (const auto& r : result.reference_runs) reference_walls.push_back(r.push_wall);
+  for (const auto& row : result.verification) reference_walls.push_back(row.reference.push_wall);
+  if (!reference_walls.empty()) result.reference_push_wall = mean_interval(reference_walls).mean;
   if (!result.verification.empty()) {
     result.peak_difference = mean_interval(relative_differences(peak, peak_reference));
     result.contact_difference = mean_interval(relative_differences(contact, contact_reference));

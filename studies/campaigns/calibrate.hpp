@@ -44,7 +44,8 @@ Model candidate_model(const std::string& policy, const std::vector<CalibrationPa
 struct RunOutputs {
   double peak_force = 0.0;     // N
   double contact_force = 0.0;  // N: the maximum, or its 99.9 % quantile
-  double push_wall = 0.0;      // s
+  double push_wall = 0.0;      // s, the push alone
+  double wall = 0.0;           // s, the model's preparation (from the shared deposition) and push
 };
 
 // Where the runs come from: DEM pushes in the store (PushRunner), or a stand-in in tests.
@@ -77,6 +78,7 @@ struct CalibrateRequest {
   std::vector<std::uint64_t> seeds = {1, 2, 3};   // every candidate runs on all of them
   std::vector<std::uint64_t> verify_seeds;        // fresh seeds for the check at the calibrated point
   std::optional<std::array<double, 2>> reference; // peak and contact force in N; else all-clump runs
+  bool contact_quantile = false;                  // match the 99.9 % quantile of the contact force, not its maximum
   double budget = 20.0;                           // candidates (expensive-level ones; a cheap one costs cheap_cost)
   int batch = 1;
   bool two_levels = false;
@@ -101,6 +103,11 @@ struct CalibrateResult {
   std::array<calibration::Prediction, 2> predicted{};  // the outputs there
   std::vector<VerificationRow> verification;
   MeanInterval peak_difference, contact_difference;    // paired, relative, on the fresh seeds
+  int dem_runs = 0;            // of the candidates (each on every seed), not counting the reference's
+  double candidates_wall = 0.0;  // s, their preparations and pushes as the records give them
+  double reference_push_wall = 0.0;  // s, mean of the all-clump pushes (reference or verification), 0 if none
+  // The calibration's cost in reference-run equivalents: candidates_wall / reference_push_wall.
+  double cost_in_reference_runs() const { return reference_push_wall > 0.0 ? candidates_wall / reference_push_wall : 0.0; }
 };
 
 CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest& request);

@@ -18,5 +18,6 @@ void add_shapes_command(CLI::App& app, Action& action, std::ostream& out, std::o
 void add_push_commands(CLI::App& app, Action& action);  // pack, push, push-test
 void add_compare_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
+void add_calibrate_command(CLI::App& app, Action& action);
 
 }  // namespace mfdem::cli

@@ -1,0 +1,89 @@
+#include "studies/campaigns/calibrate_report.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "calibration/misfit.hpp"
+
+namespace mfdem::campaigns {
+namespace {
+
+std::string seeds_text(const std::vector<std::uint64_t>& seeds) {
+  std::string s;
+  for (auto seed : seeds) s += fmt::format("{}{}", s.empty() ? "" : ",", seed);
+  return s;
+}
+
+std::string percent_interval(const MeanInterval& m) {
+  if (m.n == 0) return "-";
+  if (!std::isfinite(m.half_width)) return fmt::format("{:+.1f} % (1 seed)", 100.0 * m.mean);
+  return fmt::format("{:+.1f} % +- {:.1f} %", 100.0 * m.mean, 100.0 * m.half_width);
+}
+
+}  // namespace
+
+void write_calibration_markdown(std::ostream& out, const std::string& title, const CalibrateRequest& request,
+                                const CalibrateResult& result) {
+  fmt::print(out, "# {}\n\n", title);
+  fmt::print(out, "Policy `{}`; every candidate on seeds {} (paired); reference: {}.\n\n", request.policy,
+             seeds_text(request.seeds),
+             request.reference ? "the numbers given" : fmt::format("all-clump on the same seeds"));
+  fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |\n|---|---|---|---|---|\n");
+  for (std::size_t k = 0; k < request.parameters.size(); ++k) {
+    const auto& p = request.parameters[k];
+    const auto& i = result.posterior.intervals[k];
+    fmt::print(out, "| {} | {:g} - {:g} | {:.4g} | {:.4g} - {:.4g} | {:.4g} |\n", p.name, p.lower, p.upper,
+               result.calibrated(static_cast<Eigen::Index>(k)), i.lower, i.upper, i.median);
+  }
+  const char* names[2] = {"peak lateral force",
+                          request.contact_quantile ? "99.9 % quantile of the contact force" : "maximum contact force"};
+  fmt::print(out, "\n| output | target (N) | predicted at the calibrated point (N) | error | on {} fresh seeds, paired |\n"
+                  "|---|---|---|---|---|\n", result.verification.size());
+  const MeanInterval* verified[2] = {&result.peak_difference, &result.contact_difference};
+  for (int j = 0; j < 2; ++j) {
+    const double sd = std::sqrt(result.predicted[j].variance);
+    fmt::print(out, "| {} | {:.5g}{} | {:.5g} +- {:.2g} | {:+.1f} % | {} |\n", names[j], result.targets[j],
+               result.target_sd[j] > 0 ? fmt::format(" +- {:.2g}", result.target_sd[j]) : "", result.predicted[j].mean,
+               sd, 100.0 * (result.predicted[j].mean - result.targets[j]) / result.targets[j],
+               percent_interval(*verified[j]));
+  }
+  fmt::print(out, "\nThe verified differences are (model - reference) / reference on seeds {} never used in the fit, "
+                  "with the half-width of their 95 % Student-t interval.\n\n", seeds_text(request.verify_seeds));
+  fmt::print(out, "Cost: {} candidates ({} DEM runs of the model){}; stopped by {}.\n\n", result.loop.runs.size(),
+             result.dem_runs,
+             result.reference_push_wall > 0
+                 ? fmt::format(", {:.1f} reference-run equivalents (their preparation and push wall time over one "
+                               "all-clump push, {:.0f} s)", result.cost_in_reference_runs(), result.reference_push_wall)
+                 : std::string(),
+             result.loop.stopped_by);
+  fmt::print(out, "| step | cost (candidates) | returned point | predicted misfit | expected improvement |\n"
+                  "|---|---|---|---|---|\n");
+  for (std::size_t s = 0; s < result.loop.history.size(); ++s) {
+    const auto& h = result.loop.history[s];
+    std::string point;
+    for (Eigen::Index a = 0; a < h.returned.size(); ++a) point += fmt::format("{}{:.4g}", a ? ", " : "", h.returned(a));
+    fmt::print(out, "| {} | {:.2f} | {} | {:.3g} | {:.3g} |\n", s, h.cost, point, h.predicted_misfit,
+               h.expected_improvement);
+  }
+}
+
+void write_calibration_csv(const std::filesystem::path& file, const CalibrateRequest& request,
+                           const CalibrateResult& result) {
+  std::ofstream out(file);
+  out << "candidate,level";
+  for (const auto& p : request.parameters) out << "," << p.name;
+  out << ",peak_force,contact_force,misfit\n";
+  const std::vector<calibration::Target> targets = {calibration::relative_target(result.targets[0]),
+                                                    calibration::relative_target(result.targets[1])};
+  for (std::size_t k = 0; k < result.loop.runs.size(); ++k) {
+    const auto& r = result.loop.runs[k];
+    out << k << "," << (r.level == calibration::Level::cheap ? "cheap" : "expensive");
+    for (Eigen::Index a = 0; a < r.parameters.size(); ++a) out << fmt::format(",{:.9g}", r.parameters(a));
+    out << fmt::format(",{:.9g},{:.9g},{:.6g}\n", r.outputs(0), r.outputs(1), calibration::misfit(r.outputs, targets));
+  }
+}
+
+}  // namespace mfdem::campaigns

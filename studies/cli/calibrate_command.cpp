@@ -1,0 +1,179 @@
+// `mfdem calibrate`: the ball layer fitted to the all-clump reference (studies/campaigns/calibrate.hpp).
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "studies/campaigns/calibrate.hpp"
+#include "studies/campaigns/calibrate_report.hpp"
+#include "studies/campaigns/compare.hpp"
+#include "studies/cli/common_options.hpp"
+#include "studies/cli/subcommands.hpp"
+#include "studies/cli/version.hpp"
+#include "studies/config/config_error.hpp"
+
+namespace mfdem::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateOptions {
+  CommonOptions common;
+  std::string config;
+  std::string policy = "layer-by-height";
+  std::string parameters = "mu_r=0:0.6,h_fraction=0.3:0.9";
+  std::string seeds = "1-3";
+  std::string verify_seeds = "4-5";
+  std::string reference;
+  std::string contact = "max";
+  std::string cheap;
+  double cheap_cost = 0.25;
+  double budget = 20.0;
+  int batch = 1;
+};
+
+// "peak=12030,contact=2180" in N.
+std::array<double, 2> parse_reference(const std::string& text) {
+  std::array<double, 2> value{NAN, NAN};
+  std::stringstream entries(text);
+  for (std::string entry; std::getline(entries, entry, ',');) {
+    const auto equals = entry.find('=');
+    const std::string name = entry.substr(0, equals);
+    double v = NAN;
+    try {
+      v = std::stod(entry.substr(equals + 1));
+    } catch (const std::exception&) {
+    }
+    if (equals == std::string::npos || !(v > 0.0) || !std::isfinite(v) || (name != "peak" && name != "contact"))
+      throw config::ConfigError(fmt::format("--reference {}: expected peak=N,contact=N (forces in N, > 0)", text));
+    value[name == "peak" ? 0 : 1] = v;
+  }
+  if (!std::isfinite(value[0]) || !std::isfinite(value[1]))
+    throw config::ConfigError(fmt::format("--reference {}: both peak= and contact= are needed", text));
+  return value;
+}
+
+// Prints a line per DEM run: the calibration's runs take minutes each.
+class ReportingRunner final : public campaigns::CandidateRunner {
+ public:
+  ReportingRunner(campaigns::CandidateRunner& inner, const railway::PushStudyConfig& config, bool quiet)
+      : inner_(inner), config_(config), quiet_(quiet), start_(std::chrono::steady_clock::now()) {}
+  campaigns::RunOutputs run(const campaigns::Model& model, std::uint64_t seed, calibration::Level level) override {
+    const auto out = inner_.run(model, seed, level);
+    if (!quiet_)
+      fmt::print(std::cerr, "  {:>7.0f} s  {}{} seed {}: peak {:.1f} N, contact {:.1f} N\n",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(), model.text(config_),
+                 level == calibration::Level::cheap ? " (cheap)" : "", seed, out.peak_force, out.contact_force);
+    return out;
+  }
+
+ private:
+  campaigns::CandidateRunner& inner_;
+  const railway::PushStudyConfig& config_;
+  bool quiet_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+int calibrate(const CalibrateOptions& o) {
+  // Every input checked before any work.
+  const railway::PushStudyConfig config = railway::load_push_config(o.config);
+  std::optional<railway::PushStudyConfig> cheap;
+  if (!o.cheap.empty()) cheap = railway::load_push_config(o.cheap);
+  campaigns::CalibrateRequest request;
+  request.policy = o.policy;
+  request.parameters = campaigns::parse_calibration_parameters(o.parameters, o.policy, config, "--parameters");
+  request.seeds = campaigns::parse_seeds(o.seeds, "--seeds");
+  if (o.verify_seeds != "none") request.verify_seeds = campaigns::parse_seeds(o.verify_seeds, "--verify-seeds");
+  for (auto s : request.verify_seeds)
+    for (auto t : request.seeds)
+      if (s == t)
+        throw config::ConfigError(fmt::format("--verify-seeds {}: seed {} is also a fitting seed (--seeds {}); the check "
+                                              "needs fresh ones", o.verify_seeds, s, o.seeds));
+  if (!o.reference.empty()) request.reference = parse_reference(o.reference);
+  request.contact_quantile = o.contact == "q999";
+  request.budget = o.budget;
+  request.batch = o.batch;
+  request.two_levels = cheap.has_value();
+  request.cheap_cost = o.cheap_cost;
+  request.design_seed = o.common.seed;
+  fs::create_directories(o.common.out);
+  request.record = o.common.out / "calibration_record.csv";
+
+  runs::RunStore store(o.common.out);
+  store.clear_abandoned();
+  campaigns::RunContext context;
+  context.revision = git_revision();
+  campaigns::PushRunner pushes(store, config, cheap, context, request.contact_quantile);
+  ReportingRunner runner(pushes, config, o.common.quiet);
+  if (!o.common.quiet)
+    fmt::print(std::cerr, "calibrate {} on {}: {} over seeds {}, budget {} candidates; runs in {}\n", o.parameters,
+               config.name, o.policy, o.seeds, o.budget, o.common.out.string());
+  const campaigns::CalibrateResult result = campaigns::run_calibration(runner, request);
+  store.write_index();
+  const std::string title = fmt::format("mfdem calibrate {} --policy {} --parameters {}", o.config, o.policy, o.parameters);
+  const fs::path markdown = o.common.out / "calibrate.md", csv = o.common.out / "calibrate.csv";
+  {
+    std::ofstream file(markdown);
+    campaigns::write_calibration_markdown(file, title, request, result);
+  }
+  campaigns::write_calibration_csv(csv, request, result);
+  if (!o.common.quiet) {
+    campaigns::write_calibration_markdown(std::cout, title, request, result);
+    fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), request.record.string());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_calibrate_command(CLI::App& app, Action& action) {
+  auto o = std::make_shared<CalibrateOptions>();
+  o->common.out = "out/calibrate";
+  o->common.threads = 0;
+  CLI::App* command = app.add_subcommand(
+      "calibrate", "Fit the ball layer (rolling friction, layer height) to the all-clump reference");
+  command->add_option("config", o->config, "A preset (mini, study, standard, paper) or a study config file")->required();
+  command->add_option("--policy", o->policy, "layer-by-height or zone-by-distance (fixed parameters may follow: "
+                                             "layer-by-height:h_fraction=0.5)")->capture_default_str();
+  command->add_option("--parameters", o->parameters,
+                      "What to fit and its range, NAME=LOWER:UPPER,...: mu_r, ball_mu, h, h_fraction, d; the lowest "
+                      "layer height (the largest zone distance) is the smallest saving accepted")
+      ->capture_default_str();
+  command->add_option("--seeds", o->seeds, "Seeds every candidate runs on (paired)")->capture_default_str();
+  command->add_option("--verify-seeds", o->verify_seeds, "Fresh seeds for the check at the calibrated point, or none")
+      ->capture_default_str();
+  command->add_option("--reference", o->reference,
+                      "Targets given as peak=N,contact=N instead of all-clump runs (e.g. the paper's peak=12030,contact=2180)");
+  command->add_option("--contact", o->contact, "The contact force matched: max, or q999 (its 99.9 % quantile, less noisy)")
+      ->check(CLI::IsMember({"max", "q999"}))
+      ->capture_default_str();
+  command->add_option("--cheap", o->cheap, "A cheaper config (e.g. mini) as the co-kriging's cheap level");
+  command->add_option("--cheap-cost", o->cheap_cost, "A cheap candidate's cost in expensive ones")
+      ->check(CLI::Range(0.001, 0.999))
+      ->capture_default_str();
+  command->add_option("--budget", o->budget, "Candidates to spend at most (initial design included)")
+      ->check(CLI::Range(2.0, 1e4))
+      ->capture_default_str();
+  command->add_option("--batch", o->batch, "Candidates proposed at once")->check(CLI::Range(1, 64))->capture_default_str();
+  add_common_options(*command, o->common);
+  command->footer(
+      "Each candidate runs on every --seeds seed from the seed's deposited bed (made once, kept in OUT/shared/);\n"
+      "its outputs are the means over the seeds. The surrogates of both outputs, expected improvement and the\n"
+      "posterior are calibration/'s (calibration/README.md). Every DEM run is a folder OUT/runs/KEY and every\n"
+      "candidate a line of OUT/calibration_record.csv: the same command again recomputes nothing finished.\n"
+      "Writes OUT/calibrate.md (table, verification on --verify-seeds, cost, convergence) and OUT/calibrate.csv.\n"
+      "--seed sets the initial design's shift.");
+  command->callback([o, &action] {
+    action = [o] {
+      apply_thread_count(o->common);
+      return calibrate(*o);
+    };
+  });
+}
+
+}  // namespace mfdem::cli
