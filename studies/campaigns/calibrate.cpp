@@ -216,9 +216,9 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
     result.verification.push_back(row);
   }
   std::vector<double> reference_walls;
-  for (const auto& r : result.reference_runs) reference_walls.push_back(r.push_wall);
-  for (const auto& row : result.verification) reference_walls.push_back(row.reference.push_wall);
-  if (!reference_walls.empty()) result.reference_push_wall = mean_interval(reference_walls).mean;
+  for (const auto& r : result.reference_runs) reference_walls.push_back(r.wall);
+  for (const auto& row : result.verification) reference_walls.push_back(row.reference.wall);
+  if (!reference_walls.empty()) result.reference_wall = mean_interval(reference_walls).mean;
   if (!result.verification.empty()) {
     result.peak_difference = mean_interval(relative_differences(peak, peak_reference));
     result.contact_difference = mean_interval(relative_differences(contact, contact_reference));

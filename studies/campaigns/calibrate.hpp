@@ -105,9 +105,9 @@ struct CalibrateResult {
   MeanInterval peak_difference, contact_difference;    // paired, relative, on the fresh seeds
   int dem_runs = 0;            // of the candidates (each on every seed), not counting the reference's
   double candidates_wall = 0.0;  // s, their preparations and pushes as the records give them
-  double reference_push_wall = 0.0;  // s, mean of the all-clump pushes (reference or verification), 0 if none
-  // The calibration's cost in reference-run equivalents: candidates_wall / reference_push_wall.
-  double cost_in_reference_runs() const { return reference_push_wall > 0.0 ? candidates_wall / reference_push_wall : 0.0; }
+  double reference_wall = 0.0;  // s, mean preparation and push of the all-clump runs (reference or verification), 0 if none
+  // The calibration's cost in reference-run equivalents: candidates_wall / reference_wall.
+  double cost_in_reference_runs() const { return reference_wall > 0.0 ? candidates_wall / reference_wall : 0.0; }
 };
 
 CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest& request);

@@ -54,9 +54,9 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
                   "with the half-width of their 95 % Student-t interval.\n\n", seeds_text(request.verify_seeds));
   fmt::print(out, "Cost: {} candidates ({} DEM runs of the model){}; stopped by {}.\n\n", result.loop.runs.size(),
              result.dem_runs,
-             result.reference_push_wall > 0
-                 ? fmt::format(", {:.1f} reference-run equivalents (their preparation and push wall time over one "
-                               "all-clump push, {:.0f} s)", result.cost_in_reference_runs(), result.reference_push_wall)
+             result.reference_wall > 0
+                 ? fmt::format(", {:.1f} reference-run equivalents (their preparations and pushes over one "
+                               "all-clump run's, {:.0f} s)", result.cost_in_reference_runs(), result.reference_wall)
                  : std::string(),
              result.loop.stopped_by);
   fmt::print(out, "| step | cost (candidates) | returned point | predicted misfit | expected improvement |\n"

@@ -1,0 +1,39 @@
+// `mfdem calibrate` refuses what cannot be calibrated before any run, naming the option and value.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "tests/support/run_mfdem.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using Catch::Matchers::Contains;
+using mfdem::test::run_mfdem;
+
+TEST_CASE("calibrate refuses empty, ball-less and out-of-bed ranges, reused seeds and bad targets", "[cli][calibrate]") {
+  const mfdem::test::TempDir dir;
+  const std::string out = (dir.path() / "cal").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::vector<std::string> expected;
+  };
+  const Case cases[] = {
+      {{"--parameters", "mu_r=0.6:0"}, {"--parameters", "mu_r=0.6:0", "empty range"}},
+      {{"--parameters", "mu_r=0:0.6,h_fraction=0:0.8"}, {"h_fraction=0:0.8", "leaves no ball"}},
+      {{"--parameters", "mu_r=0:0.6,h_fraction=0.3:2"}, {"h_fraction=0.3:2"}},
+      {{"--policy", "zone-by-distance", "--parameters", "mu_r=0:0.6,d=0.01:3"}, {"d=0.01:3", "no ball"}},
+      {{"--policy", "all-ball"}, {"--policy all-ball"}},
+      {{"--verify-seeds", "3-4"}, {"--verify-seeds 3-4", "seed 3", "fresh"}},
+      {{"--reference", "peak=12030"}, {"--reference peak=12030", "contact="}},
+      {{"--seeds", ""}, {"--seeds"}},
+  };
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"calibrate", "mini", "--out", out};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const auto result = run_mfdem(args);
+    CAPTURE(c.args, result.err);
+    CHECK(result.status == 2);
+    for (const auto& e : c.expected) CHECK_THAT(result.err, Contains(e));
+    CHECK_FALSE(std::filesystem::exists(out + "/runs"));  // nothing run, no store made
+  }
+}
