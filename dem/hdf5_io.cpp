@@ -124,6 +124,21 @@ hid_t make_group(hid_t file, const std::string& name) {
   return g;
 }
 
+void write_file(const std::filesystem::path& path, const std::function<void(hid_t file)>& fill) {
+  const std::filesystem::path partial = path.string() + ".partial";
+  const hid_t file = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (file < 0) throw std::runtime_error("HDF5: cannot create " + partial.string());
+  try {
+    fill(file);
+  } catch (...) {
+    H5Fclose(file);
+    std::filesystem::remove(partial);
+    throw;
+  }
+  check(H5Fclose(file), "closing " + partial.string());
+  std::filesystem::rename(partial, path);
+}
+
 std::vector<double> read_doubles(hid_t file, const std::string& name) {
   const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
   if (set < 0) throw std::runtime_error("HDF5: missing dataset " + name);

@@ -4,6 +4,8 @@
 // std::runtime_error naming the dataset when HDF5 fails.
 #include <hdf5.h>
 
+#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,11 @@ void write_attribute(hid_t loc, const std::string& name, const std::vector<std::
 void append_row(hid_t file, const std::string& name, const double* row, hsize_t width);
 // Creates the group and any missing parents; close it with H5Gclose.
 hid_t make_group(hid_t file, const std::string& name);
+
+// Writes a new HDF5 file as PATH.partial, filled by `fill`, and renames it to PATH when complete:
+// a reader sees the old file or the whole new one, never half of it. On an exception the partial
+// file is removed and the exception passed on.
+void write_file(const std::filesystem::path& path, const std::function<void(hid_t file)>& fill);
 
 std::vector<double> read_doubles(hid_t file, const std::string& name);
 std::vector<Vec3> read_vec3s(hid_t file, const std::string& name);

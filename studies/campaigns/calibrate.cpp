@@ -195,7 +195,8 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
       }),
       o);
 
-  calibration::MisfitSurrogate surrogate(o.bounds, o.targets);
+  result.surrogate.emplace(o.bounds, o.targets);
+  calibration::MisfitSurrogate& surrogate = *result.surrogate;
   surrogate.fit(result.loop.runs);
   result.calibrated = result.loop.history.back().returned;
   const auto predicted = surrogate.predict_outputs(result.calibrated);

@@ -98,6 +98,7 @@ struct CalibrateResult {
   std::array<double, 2> target_sd{};       // N, of the reference's mean over seeds (0 when given)
   std::vector<RunOutputs> reference_runs;  // per seed (empty when given)
   calibration::LoopResult loop;
+  std::optional<calibration::MisfitSurrogate> surrogate;  // fitted on every candidate
   calibration::PosteriorSummary posterior;
   Eigen::VectorXd calibrated;              // the minimiser of the predicted misfit
   std::array<calibration::Prediction, 2> predicted{};  // the outputs there

@@ -181,10 +181,7 @@ Sections section_views(std::uint64_t seed, const std::vector<RunFiles>& runs) {
 
 void write_figure_data(const fs::path& path, const FigureLabels& labels, const std::vector<CurveBand>& curves,
                        const Sections& sections) {
-  const fs::path partial = fs::path(path.string() + ".partial");
-  const hid_t file = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (file < 0) throw std::runtime_error(fmt::format("{}: cannot create it", partial.string()));
-  try {
+  h5::write_file(path, [&](hid_t file) {
     h5::write_attribute(file, "config", labels.config);
     h5::write_attribute(file, "seeds", double(labels.seeds));
     h5::write_attribute(file, "tolerance", labels.tolerance);
@@ -219,13 +216,7 @@ void write_figure_data(const fs::path& path, const FigureLabels& labels, const s
         h5::write_doubles(g, name, *data);
       H5Gclose(g);
     }
-  } catch (...) {
-    H5Fclose(file);
-    fs::remove(partial);
-    throw;
-  }
-  H5Fclose(file);
-  fs::rename(partial, path);
+  });
 }
 
 bool write_compare_figure_data(const fs::path& path, const runs::RunStore& store, const CompareRequest& request) {

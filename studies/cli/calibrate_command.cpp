@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include "studies/campaigns/calibrate.hpp"
+#include "studies/campaigns/calibrate_figures.hpp"
 #include "studies/campaigns/calibrate_report.hpp"
 #include "studies/campaigns/compare.hpp"
 #include "studies/cli/common_options.hpp"
+#include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
@@ -35,6 +37,7 @@ struct CalibrateOptions {
   double cheap_cost = 0.25;
   double budget = 20.0;
   int batch = 1;
+  bool figures = true;
 };
 
 // "peak=12030,contact=2180" in N.
@@ -126,6 +129,12 @@ int calibrate(const CalibrateOptions& o) {
     campaigns::write_calibration_markdown(std::cout, title, request, result);
     fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), request.record.string());
   }
+  if (o.figures) {
+    campaigns::write_calibration_figure_data(o.common.out / "calibration.h5", config.name, request, result);
+    std::vector<std::string> args = {o.common.out.string()};
+    if (o.common.quiet) args.push_back("--quiet");
+    draw_figures("calibrate_figures", args);
+  }
   return 0;
 }
 
@@ -160,13 +169,15 @@ void add_calibrate_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(2.0, 1e4))
       ->capture_default_str();
   command->add_option("--batch", o->batch, "Candidates proposed at once")->check(CLI::Range(1, 64))->capture_default_str();
+  command->add_flag("!--no-figures", o->figures, "Write the tables only (no calibration.h5, no PNG/SVG)");
   add_common_options(*command, o->common);
   command->footer(
       "Each candidate runs on every --seeds seed from the seed's deposited bed (made once, kept in OUT/shared/);\n"
       "its outputs are the means over the seeds. The surrogates of both outputs, expected improvement and the\n"
       "posterior are calibration/'s (calibration/README.md). Every DEM run is a folder OUT/runs/KEY and every\n"
       "candidate a line of OUT/calibration_record.csv: the same command again recomputes nothing finished.\n"
-      "Writes OUT/calibrate.md (table, verification on --verify-seeds, cost, convergence) and OUT/calibrate.csv.\n"
+      "Writes OUT/calibrate.md (table, verification on --verify-seeds, cost, convergence), OUT/calibrate.csv and\n"
+      "the figures OUT/figures/{misfit_surface, posterior, convergence}.png/.svg (from OUT/calibration.h5).\n"
       "--seed sets the initial design's shift.");
   command->callback([o, &action] {
     action = [o] {

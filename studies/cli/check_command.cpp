@@ -14,7 +14,9 @@ namespace {
 // A scene has a [simulation] table; a push-study config (the form of the presets) has none, and a
 // preset may be named instead of a file. Returns what the file was checked as.
 std::string check_file(const std::filesystem::path& file) {
-  if (std::filesystem::exists(file) && config::load(file).has("simulation")) {
+  const bool preset_name = !std::filesystem::exists(file) && file.string().find('/') == std::string::npos &&
+                           file.extension() != ".toml";
+  if (!preset_name && config::load(file).has("simulation")) {  // load names a missing file itself
     check_scene_file(file);
     return "scene";
   }

@@ -5,12 +5,15 @@
 #include <catch2/catch.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
 
 #include "fidelity/policy.hpp"
+#include "dem/hdf5_io.hpp"
 #include "studies/campaigns/calibrate.hpp"
+#include "studies/campaigns/calibrate_figures.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/railway/push_config.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -103,6 +106,27 @@ TEST_CASE("calibrate recovers a synthetic truth with intervals that hold it", "[
   REQUIRE(result.verification.size() == 4);
   CHECK(std::abs(result.peak_difference.mean) < 0.02);
   CHECK(std::abs(result.contact_difference.mean) < 0.02);
+
+  // The figures' numbers: the grid's least predicted misfit lies within a grid step of the
+  // calibrated point, where the posterior peaks too.
+  const auto h5file = dir.path() / "calibration.h5";
+  campaigns::write_calibration_figure_data(h5file, "stand-in", stand_in_request(dir.path() / "record.csv"), result, 41);
+  const hid_t f = H5Fopen(h5file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const auto x = dem::h5::read_doubles(f, "grid/x"), y = dem::h5::read_doubles(f, "grid/y");
+  const auto misfit = dem::h5::read_doubles(f, "grid/misfit"), posterior = dem::h5::read_doubles(f, "grid/posterior");
+  const auto runs = dem::h5::read_doubles(f, "runs/misfit");
+  H5Fclose(f);
+  REQUIRE(x.size() == 41);
+  REQUIRE(misfit.size() == 41 * 41);
+  CHECK(runs.size() == result.loop.runs.size());
+  const auto least = std::min_element(misfit.begin(), misfit.end()) - misfit.begin();
+  CHECK(std::abs(x[least % 41] - result.calibrated(0)) <= 0.6 / 40 + 1e-12);
+  CHECK(std::abs(y[least / 41] - result.calibrated(1)) <= 0.7 / 40 + 1e-12);
+  CHECK(*std::max_element(posterior.begin(), posterior.end()) == 1.0);
+  const auto peak = std::max_element(posterior.begin(), posterior.end()) - posterior.begin();
+  CHECK(std::abs(x[peak % 41] - kTrueMuR) <= 0.05);
+  CHECK(std::abs(y[peak / 41] - kTrueH) <= 0.1);
 }
 
 TEST_CASE("a killed calibration restarts from the store and its record and ends the same", "[campaigns][calibrate]") {

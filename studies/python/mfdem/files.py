@@ -107,3 +107,14 @@ def read_compare_figures(out) -> dict:
         views = [{**_attrs(f["section"][k]), **_group(f["section"][k])}
                  for k in sorted(f["section"]) if isinstance(f["section"][k], h5py.Group)]
     return {"labels": labels, "curves": curves, "section": section, "views": views}
+
+
+def read_calibration(out) -> dict:
+    """OUT/calibration.h5 of `mfdem calibrate` (layout in studies/campaigns/calibrate_figures.hpp)."""
+    path = _in_folder(out, "calibration.h5")
+    with h5py.File(path, "r") as f:
+        data = {"attrs": _attrs(f)}
+        for name in ("parameters", "grid", "runs", "history"):
+            data[name] = _group(f[name])
+    data["attrs"]["parameter_names"] = data["attrs"]["parameter_names"].split(",")
+    return data
