@@ -155,7 +155,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   if (request.reference) {
     result.targets = *request.reference;
   } else {
-    for (auto seed : request.seeds) result.reference_runs.push_back(runner.run(Model{}, seed, calibration::Level::expensive));
+    for (auto seed : request.seeds) result.reference_runs.push_back(runner.run(request.reference_model, seed, calibration::Level::expensive));
     const RunOutputs mean = mean_of(result.reference_runs);
     result.targets = {mean.peak_force, mean.contact_force};
     if (result.reference_runs.size() > 1) {
@@ -211,7 +211,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   std::vector<double> peak, peak_reference, contact, contact_reference;
   for (auto seed : request.verify_seeds) {
     VerificationRow row{seed, runner.run(calibrated, seed, calibration::Level::expensive),
-                        runner.run(Model{}, seed, calibration::Level::expensive)};
+                        runner.run(request.reference_model, seed, calibration::Level::expensive)};
     peak.push_back(row.model.peak_force), peak_reference.push_back(row.reference.peak_force);
     contact.push_back(row.model.contact_force), contact_reference.push_back(row.reference.contact_force);
     result.verification.push_back(row);

@@ -77,7 +77,10 @@ struct CalibrateRequest {
   std::vector<CalibrationParameter> parameters;
   std::vector<std::uint64_t> seeds = {1, 2, 3};   // every candidate runs on all of them
   std::vector<std::uint64_t> verify_seeds;        // fresh seeds for the check at the calibrated point
-  std::optional<std::array<double, 2>> reference; // peak and contact force in N; else all-clump runs
+  std::optional<std::array<double, 2>> reference; // peak and contact force in N; else runs of reference_model
+  // The model matched: all-clump, or (a synthetic truth, to test a calibration) a multi-layer model
+  // at known parameters.
+  Model reference_model;
   bool contact_quantile = false;                  // match the 99.9 % quantile of the contact force, not its maximum
   double budget = 20.0;                           // candidates (expensive-level ones; a cheap one costs cheap_cost)
   int batch = 1;

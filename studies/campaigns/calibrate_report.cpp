@@ -30,7 +30,11 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
   fmt::print(out, "# {}\n\n", title);
   fmt::print(out, "Policy `{}`; every candidate on seeds {} (paired); reference: {}.\n\n", request.policy,
              seeds_text(request.seeds),
-             request.reference ? "the numbers given" : fmt::format("all-clump on the same seeds"));
+             request.reference ? std::string("the numbers given")
+                               : fmt::format("`{}{}` on the same seeds", request.reference_model.policy,
+                                             request.reference_model.rolling_friction
+                                                 ? fmt::format(" mu_r={:g}", *request.reference_model.rolling_friction)
+                                                 : std::string()));
   fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |\n|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < request.parameters.size(); ++k) {
     const auto& p = request.parameters[k];

@@ -32,6 +32,7 @@ struct CalibrateOptions {
   std::string seeds = "1-3";
   std::string verify_seeds = "4-5";
   std::string reference;
+  std::string reference_model = "all-clump";
   std::string contact = "max";
   std::string cheap;
   double cheap_cost = 0.25;
@@ -98,6 +99,10 @@ int calibrate(const CalibrateOptions& o) {
         throw config::ConfigError(fmt::format("--verify-seeds {}: seed {} is also a fitting seed (--seeds {}); the check "
                                               "needs fresh ones", o.verify_seeds, s, o.seeds));
   if (!o.reference.empty()) request.reference = parse_reference(o.reference);
+  const auto reference_models = campaigns::parse_models(o.reference_model, "--reference-model");
+  if (reference_models.size() != 1)
+    throw config::ConfigError(fmt::format("--reference-model {}: one model expected", o.reference_model));
+  request.reference_model = reference_models.front();
   request.contact_quantile = o.contact == "q999";
   request.budget = o.budget;
   request.batch = o.batch;
@@ -158,6 +163,10 @@ void add_calibrate_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   command->add_option("--reference", o->reference,
                       "Targets given as peak=N,contact=N instead of all-clump runs (e.g. the paper's peak=12030,contact=2180)");
+  command->add_option("--reference-model", o->reference_model,
+                      "The model whose runs on the same seeds are the targets: all-clump, or a multi-layer model at "
+                      "known parameters (layer-by-height:h_fraction=0.5,mu_r=0.2) to check that a calibration finds them")
+      ->capture_default_str();
   command->add_option("--contact", o->contact, "The contact force matched: max, or q999 (its 99.9 % quantile, less noisy)")
       ->check(CLI::IsMember({"max", "q999"}))
       ->capture_default_str();
