@@ -13,9 +13,10 @@ namespace {
 
 // What decides the runs (not the budget or the stopping threshold: raising them continues a loop).
 std::string fingerprint(const LoopOptions& o) {
-  std::string s = fmt::format("two_levels={} cheap_cost={:.17g} initial={}/{} batch={} design_seed={} kernel={} bounds=",
-                              o.two_levels, o.cheap_cost, o.initial_expensive, o.initial_cheap, o.batch, o.design_seed,
-                              o.kind == KernelKind::matern52 ? "matern52" : "se");
+  std::string s = fmt::format(
+      "two_levels={} cheap_cost={:.17g} initial={}/{} batch={} design_seed={} kernel={} lengths={:.6g}-{:.6g} bounds=",
+      o.two_levels, o.cheap_cost, o.initial_expensive, o.initial_cheap, o.batch, o.design_seed,
+      o.kind == KernelKind::matern52 ? "matern52" : "se", o.search.shortest_length, o.search.longest_length);
   for (const auto& b : o.bounds) s += fmt::format("[{:.17g} {:.17g}]", b.lower, b.upper);
   s += " targets=";
   for (const auto& t : o.targets) s += fmt::format("[{:.17g} {:.17g}]", t.value, t.scale);

@@ -43,6 +43,8 @@ class MisfitSurrogate {
   bool two_levels() const { return two_levels_; }
 
   const std::vector<Bounds>& bounds() const { return bounds_; }
+  KernelKind kind() const { return kind_; }
+  const HyperparameterSearch& search() const { return search_; }
   const std::vector<Target>& targets() const { return targets_; }
   const std::vector<CoKriging>& outputs() const { return models_; }
 

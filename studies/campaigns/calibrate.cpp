@@ -178,6 +178,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.stop_improvement = request.stop_improvement;
   o.record = request.record;
   o.run_seeds = {0};  // unused: every candidate runs on all the request's seeds
+  o.search.shortest_length = request.shortest_length;
   const auto evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
     std::vector<RunOutputs> per_seed;
@@ -195,7 +196,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
       }),
       o);
 
-  result.surrogate.emplace(o.bounds, o.targets);
+  result.surrogate.emplace(o.bounds, o.targets, o.kind, o.search);
   calibration::MisfitSurrogate& surrogate = *result.surrogate;
   surrogate.fit(result.loop.runs);
   result.calibrated = result.loop.history.back().returned;

@@ -88,6 +88,9 @@ struct CalibrateRequest {
   double cheap_cost = 0.25;
   std::uint64_t design_seed = 1;
   double stop_improvement = 1e-5;
+  // The surrogates' shortest length scale, as a fraction of each parameter's range: DEM outputs
+  // scatter between runs, and a process allowed shorter scales reads that scatter as structure.
+  double shortest_length = 0.1;
   std::filesystem::path record;                   // the loop's record (OUT/calibration_record.csv)
 };
 

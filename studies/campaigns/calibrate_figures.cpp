@@ -32,7 +32,7 @@ void write_calibration_figure_data(const std::filesystem::path& path, const std:
   for (const auto& r : result.loop.runs)
     if (r.level == calibration::Level::expensive) expensive_runs.push_back(r);
   if (s.two_levels()) {
-    expensive_only.emplace(s.bounds(), s.targets());
+    expensive_only.emplace(s.bounds(), s.targets(), s.kind(), s.search());
     expensive_only->fit(expensive_runs);
   }
   const std::vector<double> target_sd = {result.target_sd[0], result.target_sd[1]};

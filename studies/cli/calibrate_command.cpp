@@ -38,6 +38,7 @@ struct CalibrateOptions {
   double cheap_cost = 0.25;
   double budget = 20.0;
   int batch = 1;
+  double shortest_length = 0.1;
   bool figures = true;
 };
 
@@ -106,6 +107,7 @@ int calibrate(const CalibrateOptions& o) {
   request.contact_quantile = o.contact == "q999";
   request.budget = o.budget;
   request.batch = o.batch;
+  request.shortest_length = o.shortest_length;
   request.two_levels = cheap.has_value();
   request.cheap_cost = o.cheap_cost;
   request.design_seed = o.common.seed;
@@ -178,6 +180,11 @@ void add_calibrate_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(2.0, 1e4))
       ->capture_default_str();
   command->add_option("--batch", o->batch, "Candidates proposed at once")->check(CLI::Range(1, 64))->capture_default_str();
+  command->add_option("--shortest-length", o->shortest_length,
+                      "The surrogates' shortest length scale, as a fraction of each range (DEM scatter is noise, "
+                      "not structure)")
+      ->check(CLI::Range(1e-3, 1.0))
+      ->capture_default_str();
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no calibration.h5, no PNG/SVG)");
   add_common_options(*command, o->common);
   command->footer(
