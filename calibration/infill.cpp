@@ -21,9 +21,11 @@ Evaluation believed(const MisfitSurrogate& s, const Eigen::VectorXd& point, Leve
 }  // namespace
 
 double misfit_expected_improvement(const MisfitSurrogate& surrogate, const Eigen::VectorXd& point) {
-  const MisfitPrediction p = surrogate.predict(point);
+  // Called thousands of times per proposal: the outputs are predicted once.
+  const std::vector<Prediction> outputs = surrogate.predict_outputs(point);
+  const MisfitPrediction p = surrogate.misfit_of(outputs);
   if (surrogate.targets().size() == 1) {  // a single squared error: its exact EI
-    const Prediction y = surrogate.predict_outputs(point).front();
+    const Prediction& y = outputs.front();
     const Target& t = surrogate.targets().front();
     return noise_factor(p.variance, p.noise_variance) * squared_error_expected_improvement(surrogate.incumbent(), y.mean, std::sqrt(y.variance),
                                                              t.value, t.scale);

@@ -61,7 +61,11 @@ std::vector<Prediction> MisfitSurrogate::predict_outputs(const Eigen::VectorXd& 
 }
 
 MisfitPrediction MisfitSurrogate::predict(const Eigen::VectorXd& point) const {
-  return predict_misfit(predict_outputs(point), noise_, targets_);
+  return misfit_of(predict_outputs(point));
+}
+
+MisfitPrediction MisfitSurrogate::misfit_of(std::span<const Prediction> outputs) const {
+  return predict_misfit(outputs, noise_, targets_);
 }
 
 double MisfitSurrogate::variance_share(const Eigen::VectorXd& point, Level level) const {

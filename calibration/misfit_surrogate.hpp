@@ -30,6 +30,8 @@ class MisfitSurrogate {
   // The expensive level's outputs and misfit at a point.
   std::vector<Prediction> predict_outputs(const Eigen::VectorXd& point) const;
   MisfitPrediction predict(const Eigen::VectorXd& point) const;
+  // The misfit of outputs already predicted at a point (predict_outputs): no second prediction.
+  MisfitPrediction misfit_of(std::span<const Prediction> outputs) const;
 
   // The best predicted misfit at the points run at the expensive level: expected improvement's
   // incumbent. Cheap runs never set it (emukit issue 468: an incumbent from cheap runs stalls the

@@ -179,7 +179,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.record = request.record;
   o.run_seeds = {0};  // unused: every candidate runs on all the request's seeds
   o.search.shortest_length = request.shortest_length;
-  const auto evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
+  const calibration::Evaluate evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
     std::vector<RunOutputs> per_seed;
     for (auto seed : request.seeds) {
@@ -188,13 +188,11 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
       ++result.dem_runs;
     }
     const RunOutputs mean = mean_of(per_seed);
-    return Eigen::Vector2d(mean.peak_force, mean.contact_force).eval();
+    Eigen::VectorXd outputs(2);
+    outputs << mean.peak_force, mean.contact_force;
+    return outputs;
   };
-  result.loop = calibration::run_calibration_loop(
-      calibration::one_at_a_time([&](const Eigen::VectorXd& x, std::uint64_t seed, calibration::Level level) {
-        return Eigen::VectorXd(evaluate(x, seed, level));
-      }),
-      o);
+  result.loop = calibration::run_calibration_loop(calibration::one_at_a_time(evaluate), o);
 
   result.surrogate.emplace(o.bounds, o.targets, o.kind, o.search);
   calibration::MisfitSurrogate& surrogate = *result.surrogate;

@@ -138,9 +138,7 @@ int calibrate(const CalibrateOptions& o) {
   }
   if (o.figures) {
     campaigns::write_calibration_figure_data(o.common.out / "calibration.h5", config.name, request, result);
-    std::vector<std::string> args = {o.common.out.string()};
-    if (o.common.quiet) args.push_back("--quiet");
-    draw_figures("calibrate_figures", args);
+    draw_study_figures("calibrate_figures", o.common.out.string(), o.common.quiet);
   }
   return 0;
 }

@@ -152,9 +152,7 @@ int compare(const CompareOptions& o) {
   if (o.figures) {
     const fs::path data = o.common.out / "figures.h5";
     if (campaigns::write_compare_figure_data(data, store, request)) {
-      std::vector<std::string> args = {o.common.out.string()};
-      if (o.common.quiet) args.push_back("--quiet");
-      draw_figures("compare_figures", args);
+      draw_study_figures("compare_figures", o.common.out.string(), o.common.quiet);
     } else {
       fmt::print(std::cerr, "mfdem: no figures: the reference has no finished run\n");
     }

@@ -63,4 +63,10 @@ bool draw_figures(const std::string& module, const std::vector<std::string>& arg
   return ran;
 }
 
+bool draw_study_figures(const std::string& module, const std::string& out, bool quiet) {
+  std::vector<std::string> args = {out};
+  if (quiet) args.push_back("--quiet");
+  return draw_figures(module, args);
+}
+
 }  // namespace mfdem::cli

@@ -12,6 +12,9 @@ namespace mfdem::cli {
 // them later, when Python is missing or the module fails: figures never fail a finished study.
 bool draw_figures(const std::string& module, const std::vector<std::string>& args);
 
+// draw_figures(module, {out} + --quiet when quiet): a study's figures from the data in its folder.
+bool draw_study_figures(const std::string& module, const std::string& out, bool quiet);
+
 // The command a user can run to draw them again, for messages and results pages.
 std::string figure_command(const std::string& module, const std::vector<std::string>& args);
 
