@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 #include "fidelity/policy.hpp"
@@ -128,9 +129,7 @@ PushRunner::PushRunner(runs::RunStore& store, railway::PushStudyConfig config,
       contact_quantile_(contact_quantile) {}
 
 RunOutputs PushRunner::run(const Model& model, std::uint64_t seed, calibration::Level level) {
-  const bool cheap = level == calibration::Level::cheap;
-  if (cheap && !cheap_) throw std::logic_error("a cheap run asked of a calibration without a cheap level");
-  const railway::PushStudyConfig& config = cheap ? *cheap_ : config_;
+  const railway::PushStudyConfig& config = level == calibration::Level::cheap && cheap_ ? *cheap_ : config_;
   ensure_push_run(store_, config, model, seed, context_);
   const std::string key = run_key(config, model, seed);
   const auto record = store_.find(key);
@@ -179,13 +178,19 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.record = request.record;
   o.run_seeds = {0};  // unused: every candidate runs on all the request's seeds
   o.search.shortest_length = request.shortest_length;
+  std::set<std::string> counted;  // the DEM runs whose cost is counted (a run shared by both levels once)
   const calibration::Evaluate evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
+    const bool cheap = level == calibration::Level::cheap;
     std::vector<RunOutputs> per_seed;
-    for (auto seed : request.seeds) {
+    for (auto seed : cheap && !request.cheap_seeds.empty() ? request.cheap_seeds : request.seeds) {
       per_seed.push_back(runner.run(model, seed, level));
-      result.candidates_wall += per_seed.back().wall;
-      ++result.dem_runs;
+      std::string id = fmt::format("{} {}", cheap && !request.cheap_on_same_config ? "cheap" : "expensive", seed);
+      for (Eigen::Index k = 0; k < x.size(); ++k) id += fmt::format(" {:.17g}", x(k));
+      if (counted.insert(id).second) {
+        result.candidates_wall += per_seed.back().wall;
+        ++result.dem_runs;
+      }
     }
     const RunOutputs mean = mean_of(per_seed);
     Eigen::VectorXd outputs(2);

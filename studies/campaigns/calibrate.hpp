@@ -57,7 +57,8 @@ class CandidateRunner {
   virtual RunOutputs run(const Model& model, std::uint64_t seed, calibration::Level level) = 0;
 };
 
-// DEM pushes: the expensive level on `config`, the cheap one (if any) on `cheap_config`.
+// DEM pushes: the expensive level on `config`, the cheap one on `cheap_config`, or without one on
+// `config` too (a cheap level of fewer seeds).
 class PushRunner final : public CandidateRunner {
  public:
   PushRunner(runs::RunStore& store, railway::PushStudyConfig config, std::optional<railway::PushStudyConfig> cheap,
@@ -86,6 +87,10 @@ struct CalibrateRequest {
   int batch = 1;
   bool two_levels = false;
   double cheap_cost = 0.25;
+  // The cheap level's seeds (empty: `seeds`). Fewer seeds on the same config is a cheap level by
+  // itself; the runs it shares with the expensive level are then one run, counted once.
+  std::vector<std::uint64_t> cheap_seeds;
+  bool cheap_on_same_config = false;
   std::uint64_t design_seed = 1;
   double stop_improvement = 1e-5;
   // The surrogates' shortest length scale, as a fraction of each parameter's range: DEM outputs

@@ -35,6 +35,14 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
                                              request.reference_model.rolling_friction
                                                  ? fmt::format(" mu_r={:g}", *request.reference_model.rolling_friction)
                                                  : std::string()));
+  if (request.two_levels)
+    fmt::print(out, "A cheap level ({}) informs the surrogates by co-kriging; a cheap candidate costs {:g} of an "
+                    "expensive one.\n\n",
+               request.cheap_on_same_config ? fmt::format("seeds {} only", seeds_text(request.cheap_seeds))
+                                            : fmt::format("the cheap config on seeds {}",
+                                                          seeds_text(request.cheap_seeds.empty() ? request.seeds
+                                                                                                 : request.cheap_seeds)),
+               request.cheap_cost);
   fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |\n|---|---|---|---|---|\n");
   for (std::size_t k = 0; k < request.parameters.size(); ++k) {
     const auto& p = request.parameters[k];
@@ -56,11 +64,13 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
   }
   fmt::print(out, "\nThe verified differences are (model - reference) / reference on seeds {} never used in the fit, "
                   "with the half-width of their 95 % Student-t interval.\n\n", seeds_text(request.verify_seeds));
-  fmt::print(out, "Cost: {} candidates ({} DEM runs of the model){}; stopped by {}.\n\n", result.loop.runs.size(),
-             result.dem_runs,
+  std::size_t cheap_candidates = 0;
+  for (const auto& r : result.loop.runs) cheap_candidates += r.level == calibration::Level::cheap;
+  fmt::print(out, "Cost: {} candidates{} ({} DEM runs of the model){}; stopped by {}.\n\n", result.loop.runs.size(),
+             cheap_candidates ? fmt::format(" ({} of them cheap)", cheap_candidates) : std::string(), result.dem_runs,
              result.reference_wall > 0
                  ? fmt::format(", {:.1f} reference-run equivalents (their preparations and pushes over one "
-                               "all-clump run's, {:.0f} s)", result.cost_in_reference_runs(), result.reference_wall)
+                               "reference run's, {:.0f} s)", result.cost_in_reference_runs(), result.reference_wall)
                  : std::string(),
              result.loop.stopped_by);
   fmt::print(out, "| step | cost (candidates) | returned point | predicted misfit | expected improvement |\n"

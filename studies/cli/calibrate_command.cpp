@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "studies/campaigns/calibrate.hpp"
@@ -35,7 +36,8 @@ struct CalibrateOptions {
   std::string reference_model = "all-clump";
   std::string contact = "max";
   std::string cheap;
-  double cheap_cost = 0.25;
+  std::string cheap_seeds;
+  std::optional<double> cheap_cost;
   double budget = 20.0;
   int batch = 1;
   double shortest_length = 0.1;
@@ -108,8 +110,22 @@ int calibrate(const CalibrateOptions& o) {
   request.budget = o.budget;
   request.batch = o.batch;
   request.shortest_length = o.shortest_length;
-  request.two_levels = cheap.has_value();
-  request.cheap_cost = o.cheap_cost;
+  if (!o.cheap_seeds.empty()) {
+    request.cheap_seeds = campaigns::parse_seeds(o.cheap_seeds, "--cheap-seeds");
+    request.cheap_on_same_config = !cheap.has_value();
+    if (request.cheap_on_same_config && request.cheap_seeds.size() >= request.seeds.size())
+      throw config::ConfigError(fmt::format("--cheap-seeds {}: without --cheap the cheap level is the same config on "
+                                            "fewer seeds; expected fewer than the {} of --seeds {}",
+                                            o.cheap_seeds, request.seeds.size(), o.seeds));
+  }
+  request.two_levels = cheap.has_value() || !request.cheap_seeds.empty();
+  if (o.cheap_cost && !request.two_levels)
+    throw config::ConfigError(fmt::format("--cheap-cost {}: there is no cheap level (give --cheap or --cheap-seeds)",
+                                          *o.cheap_cost));
+  // Fewer seeds of the same runs cost in proportion; another config's runs cost what the user says.
+  request.cheap_cost = o.cheap_cost.value_or(request.cheap_on_same_config
+                                                 ? double(request.cheap_seeds.size()) / double(request.seeds.size())
+                                                 : 0.25);
   request.design_seed = o.common.seed;
   fs::create_directories(o.common.out);
   request.record = o.common.out / "calibration_record.csv";
@@ -171,9 +187,13 @@ void add_calibrate_command(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"max", "q999"}))
       ->capture_default_str();
   command->add_option("--cheap", o->cheap, "A cheaper config (e.g. mini) as the co-kriging's cheap level");
-  command->add_option("--cheap-cost", o->cheap_cost, "A cheap candidate's cost in expensive ones")
-      ->check(CLI::Range(0.001, 0.999))
-      ->capture_default_str();
+  command->add_option("--cheap-seeds", o->cheap_seeds,
+                      "The cheap level's seeds: with --cheap, its seeds (default: --seeds); alone, a cheap level of "
+                      "the same config on fewer seeds (e.g. --seeds 1-3 --cheap-seeds 1)");
+  command->add_option("--cheap-cost", o->cheap_cost,
+                      "A cheap candidate's cost in expensive ones (default: 0.25 with --cheap; the share of the "
+                      "seeds with --cheap-seeds alone)")
+      ->check(CLI::Range(0.001, 0.999));
   command->add_option("--budget", o->budget, "Candidates to spend at most (initial design included)")
       ->check(CLI::Range(2.0, 1e4))
       ->capture_default_str();

@@ -129,6 +129,31 @@ TEST_CASE("calibrate recovers a synthetic truth with intervals that hold it", "[
   CHECK(std::abs(y[peak / 41] - kTrueH) <= 0.1);
 }
 
+TEST_CASE("a cheap level of fewer seeds shares its runs with the expensive level and counts them once",
+          "[campaigns][calibrate]") {
+  const test::TempDir dir;
+  runs::RunStore store(dir.path() / "store");
+  StandInRunner runner(store);
+  auto request = stand_in_request(dir.path() / "record.csv");
+  request.two_levels = true;
+  request.cheap_seeds = {1};
+  request.cheap_on_same_config = true;
+  request.cheap_cost = 1.0 / 3.0;
+  const auto result = campaigns::run_calibration(runner, request);
+  CAPTURE(result.calibrated.transpose(), result.loop.runs.size(), result.loop.stopped_by);
+  std::size_t cheap = 0, expensive = 0;
+  for (const auto& r : result.loop.runs) (r.level == calibration::Level::cheap ? cheap : expensive) += 1;
+  CHECK(cheap > 0);
+  CHECK(expensive > 0);
+  // Every distinct DEM run computed is counted once: a candidate run cheap on seed 1 and later
+  // expensive on seeds 1-3 costs three runs, not four. The reference (3) and the check (4 + 4)
+  // are not the candidates'.
+  CHECK(result.dem_runs == runner.computed - 3 - 8);
+  CHECK(result.loop.cost <= request.budget);
+  CHECK(std::abs(result.calibrated(0) - kTrueMuR) <= 0.03);
+  CHECK(std::abs(result.calibrated(1) - kTrueH) <= 0.07);
+}
+
 TEST_CASE("a killed calibration restarts from the store and its record and ends the same", "[campaigns][calibrate]") {
   const test::TempDir dir;
   runs::RunStore whole_store(dir.path() / "whole");

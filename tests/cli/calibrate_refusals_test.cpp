@@ -26,6 +26,8 @@ TEST_CASE("calibrate refuses empty, ball-less and out-of-bed ranges, reused seed
       {{"--verify-seeds", "3-4"}, {"--verify-seeds 3-4", "seed 3", "fresh"}},
       {{"--reference", "peak=12030"}, {"--reference peak=12030", "contact="}},
       {{"--seeds", ""}, {"--seeds"}},
+      {{"--cheap-seeds", "1-3"}, {"--cheap-seeds 1-3", "fewer than the 3"}},
+      {{"--cheap-cost", "0.3"}, {"--cheap-cost 0.3", "no cheap level"}},
   };
   for (const auto& c : cases) {
     std::vector<std::string> args = {"calibrate", "mini", "--out", out};
