@@ -172,6 +172,8 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.two_levels = request.two_levels;
   o.cheap_cost = request.cheap_cost;
   o.budget = request.budget;
+  o.initial_expensive = request.initial_expensive;
+  o.initial_cheap = request.initial_cheap;
   o.batch = request.batch;
   o.design_seed = request.design_seed;
   o.stop_improvement = request.stop_improvement;

@@ -84,6 +84,8 @@ struct CalibrateRequest {
   Model reference_model;
   bool contact_quantile = false;                  // match the 99.9 % quantile of the contact force, not its maximum
   double budget = 20.0;                           // candidates (expensive-level ones; a cheap one costs cheap_cost)
+  int initial_expensive = 0;                      // the initial design's expensive candidates; 0: 2 d + 2
+  int initial_cheap = 0;                          // and cheap ones (two levels); 0: 3 x the expensive ones
   int batch = 1;
   bool two_levels = false;
   double cheap_cost = 0.25;

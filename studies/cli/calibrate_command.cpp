@@ -39,6 +39,7 @@ struct CalibrateOptions {
   std::string cheap_seeds;
   std::optional<double> cheap_cost;
   double budget = 20.0;
+  int initial = 0, initial_cheap = 0;
   int batch = 1;
   double shortest_length = 0.1;
   bool figures = true;
@@ -119,13 +120,19 @@ int calibrate(const CalibrateOptions& o) {
                                             o.cheap_seeds, request.seeds.size(), o.seeds));
   }
   request.two_levels = cheap.has_value() || !request.cheap_seeds.empty();
-  if (o.cheap_cost && !request.two_levels)
-    throw config::ConfigError(fmt::format("--cheap-cost {}: there is no cheap level (give --cheap or --cheap-seeds)",
-                                          *o.cheap_cost));
+  const auto refuse_without_cheap_level = [&](const char* option, double value) {
+    if (!request.two_levels)
+      throw config::ConfigError(
+          fmt::format("{} {:g}: there is no cheap level (give --cheap or --cheap-seeds)", option, value));
+  };
+  if (o.cheap_cost) refuse_without_cheap_level("--cheap-cost", *o.cheap_cost);
   // Fewer seeds of the same runs cost in proportion; another config's runs cost what the user says.
   request.cheap_cost = o.cheap_cost.value_or(request.cheap_on_same_config
                                                  ? double(request.cheap_seeds.size()) / double(request.seeds.size())
                                                  : 0.25);
+  request.initial_expensive = o.initial;
+  request.initial_cheap = o.initial_cheap;
+  if (o.initial_cheap > 0) refuse_without_cheap_level("--initial-cheap", o.initial_cheap);
   request.design_seed = o.common.seed;
   fs::create_directories(o.common.out);
   request.record = o.common.out / "calibration_record.csv";
@@ -196,6 +203,14 @@ void add_calibrate_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.001, 0.999));
   command->add_option("--budget", o->budget, "Candidates to spend at most (initial design included)")
       ->check(CLI::Range(2.0, 1e4))
+      ->capture_default_str();
+  command->add_option("--initial", o->initial,
+                      "Expensive candidates of the initial design (0: 2 d + 2 for d parameters); the first ones of "
+                      "the cheap design when there is a cheap level")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  command->add_option("--initial-cheap", o->initial_cheap, "Cheap candidates of the initial design (0: 3 x --initial)")
+      ->check(CLI::Range(0, 10000))
       ->capture_default_str();
   command->add_option("--batch", o->batch, "Candidates proposed at once")->check(CLI::Range(1, 64))->capture_default_str();
   command->add_option("--shortest-length", o->shortest_length,

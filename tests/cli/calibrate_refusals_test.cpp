@@ -28,6 +28,7 @@ TEST_CASE("calibrate refuses empty, ball-less and out-of-bed ranges, reused seed
       {{"--seeds", ""}, {"--seeds"}},
       {{"--cheap-seeds", "1-3"}, {"--cheap-seeds 1-3", "fewer than the 3"}},
       {{"--cheap-cost", "0.3"}, {"--cheap-cost 0.3", "no cheap level"}},
+      {{"--initial-cheap", "8"}, {"--initial-cheap 8", "no cheap level"}},
   };
   for (const auto& c : cases) {
     std::vector<std::string> args = {"calibrate", "mini", "--out", out};
