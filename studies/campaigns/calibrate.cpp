@@ -233,4 +233,22 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   return result;
 }
 
+std::optional<Eigen::VectorXd> reference_parameters(const CalibrateRequest& request) {
+  const Model& m = request.reference_model;
+  const fidelity::PolicySpec spec = fidelity::parse_policy_spec(m.policy);
+  if (spec.name != fidelity::parse_policy_spec(request.policy).name) return std::nullopt;
+  Eigen::VectorXd values(static_cast<Eigen::Index>(request.parameters.size()));
+  for (std::size_t k = 0; k < request.parameters.size(); ++k) {
+    const std::string& name = request.parameters[k].name;
+    double v = NAN;
+    if (name == kRolling) v = m.rolling_friction.value_or(NAN);
+    if (name == kBallFriction) v = m.ball_friction.value_or(NAN);
+    for (const auto& q : spec.parameters)
+      if (q.name == name) v = q.value;
+    if (std::isnan(v)) return std::nullopt;
+    values(static_cast<Eigen::Index>(k)) = v;
+  }
+  return values;
+}
+
 }  // namespace mfdem::campaigns

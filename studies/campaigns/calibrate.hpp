@@ -126,4 +126,8 @@ struct CalibrateResult {
 
 CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest& request);
 
+// The calibrated parameters' values in the reference model, when it is a model of the same policy
+// that sets them all (a synthetic truth); nothing for the all-clump reference.
+std::optional<Eigen::VectorXd> reference_parameters(const CalibrateRequest& request);
+
 }  // namespace mfdem::campaigns

@@ -72,6 +72,8 @@ void write_calibration_figure_data(const std::filesystem::path& path, const std:
       high.push_back(result.posterior.intervals[k].upper);
     }
     const hid_t pg = h5::make_group(file, "parameters");
+    if (const auto truth = reference_parameters(request))
+      h5::write_doubles(pg, "truth", std::vector<double>(truth->data(), truth->data() + truth->size()));
     for (const auto& [name, v] : {std::pair{"lower", &lower}, {"upper", &upper}, {"calibrated", &calibrated},
                                   {"interval_low", &low}, {"median", &median}, {"interval_high", &high}})
       h5::write_doubles(pg, name, *v);

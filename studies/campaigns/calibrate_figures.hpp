@@ -4,6 +4,7 @@
 //
 //   attrs: config, policy, parameter_names (comma-joined), target_peak, target_contact (N)
 //   /parameters/{lower, upper, calibrated, interval_low, median, interval_high}   one per parameter
+//   /parameters/truth          a synthetic truth's values (the reference model's), when it sets them
 //   /grid/x, /grid/y           the first two parameters (y absent with one), any others held at
 //                              their calibrated values
 //   /grid/misfit               [ny, nx] predicted mean misfit (sum of squared relative errors)

@@ -43,12 +43,18 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
                                                           seeds_text(request.cheap_seeds.empty() ? request.seeds
                                                                                                  : request.cheap_seeds)),
                request.cheap_cost);
-  fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |\n|---|---|---|---|---|\n");
+  const auto truth = reference_parameters(request);
+  fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |{}\n|---|---|---|---|---|{}\n",
+             truth ? " truth (the reference's) | calibrated - truth, % of the range |" : "", truth ? "---|---|" : "");
   for (std::size_t k = 0; k < request.parameters.size(); ++k) {
     const auto& p = request.parameters[k];
     const auto& i = result.posterior.intervals[k];
-    fmt::print(out, "| {} | {:g} - {:g} | {:.4g} | {:.4g} - {:.4g} | {:.4g} |\n", p.name, p.lower, p.upper,
-               result.calibrated(static_cast<Eigen::Index>(k)), i.lower, i.upper, i.median);
+    const auto a = static_cast<Eigen::Index>(k);
+    fmt::print(out, "| {} | {:g} - {:g} | {:.4g} | {:.4g} - {:.4g} | {:.4g} |{}\n", p.name, p.lower, p.upper,
+               result.calibrated(a), i.lower, i.upper, i.median,
+               truth ? fmt::format(" {:.4g} | {:+.1f} % |", (*truth)(a),
+                                   100.0 * (result.calibrated(a) - (*truth)(a)) / (p.upper - p.lower))
+                     : std::string());
   }
   const char* names[2] = {"peak lateral force",
                           request.contact_quantile ? "99.9 % quantile of the contact force" : "maximum contact force"};

@@ -154,6 +154,21 @@ TEST_CASE("a cheap level of fewer seeds shares its runs with the expensive level
   CHECK(std::abs(result.calibrated(1) - kTrueH) <= 0.07);
 }
 
+TEST_CASE("a synthetic truth's parameters are read from the reference model", "[campaigns][calibrate]") {
+  auto request = stand_in_request("unused.csv");
+  CHECK_FALSE(campaigns::reference_parameters(request));  // all-clump: no truth
+  request.reference_model = Model{"layer-by-height:h_fraction=0.6", 0.35, std::nullopt};
+  const auto truth = campaigns::reference_parameters(request);
+  REQUIRE(truth);
+  CHECK(truth->size() == 2);
+  CHECK((*truth)(0) == 0.35);
+  CHECK((*truth)(1) == 0.6);
+  request.reference_model.rolling_friction.reset();  // mu_r left to the config: not a known truth
+  CHECK_FALSE(campaigns::reference_parameters(request));
+  request.reference_model = Model{"zone-by-distance:d=0.05", 0.35, std::nullopt};  // another policy
+  CHECK_FALSE(campaigns::reference_parameters(request));
+}
+
 TEST_CASE("a killed calibration restarts from the store and its record and ends the same", "[campaigns][calibrate]") {
   const test::TempDir dir;
   runs::RunStore whole_store(dir.path() / "whole");

@@ -47,7 +47,10 @@ def misfit_surface(data, out: Path, quiet: bool) -> None:
             levels = np.logspace(np.log10(surface.min()), np.log10(surface.max()), 16)
             c = ax.contourf(grid["x"], grid["y"], surface, levels=levels, norm=figures.matplotlib.colors.LogNorm(),
                             cmap="viridis_r")
-            fig.colorbar(c, ax=ax, label="predicted misfit (sum of squared relative errors)")
+            # Ticks at every third level: a log scale within one decade would otherwise label two.
+            bar = fig.colorbar(c, ax=ax, ticks=levels[::3], format="%.2g",
+                               label="predicted misfit (sum of squared relative errors)")
+            bar.minorticks_off()
             ax.set_ylabel(names[1])
         else:
             ax.semilogy(grid["x"], surface[0], color="C0", label="predicted misfit")
@@ -55,6 +58,10 @@ def misfit_surface(data, out: Path, quiet: bool) -> None:
         _runs(ax, data["runs"], two_d, with_cheap=key == "misfit")
         cal = par["calibrated"]
         ax.plot(cal[0], cal[1] if two_d else np.interp(cal[0], grid["x"], surface[0]), "r*", ms=14, label="calibrated")
+        if "truth" in par:
+            t = par["truth"]
+            ax.plot(t[0], t[1] if two_d else np.interp(t[0], grid["x"], surface[0]), "wX", ms=11, mec="k",
+                    label="truth (the reference model's)")
         _interval_box(ax, par)
         ax.set_xlabel(names[0])
         ax.set_title(f"predicted from {title}", fontsize=9)
@@ -78,6 +85,9 @@ def posterior(data, out: Path, quiet: bool) -> None:
         ax.set_ylabel("posterior density / its maximum")
     _interval_box(ax, par)
     ax.plot(par["calibrated"][0], par["calibrated"][1] if "y" in grid else 1.0, "r*", ms=14, label="calibrated")
+    if "truth" in par:
+        ax.plot(par["truth"][0], par["truth"][1] if "y" in grid else 1.0, "wX", ms=11, mec="k",
+                label="truth (the reference model's)")
     ax.set_xlabel(names[0])
     ax.legend(fontsize=7)
     ax.set_title("posterior of the parameters (uniform prior on the ranges)", fontsize=9)
