@@ -16,6 +16,7 @@
 #include "studies/campaigns/calibrate_figures.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/railway/push_config.hpp"
+#include "tests/support/stand_in_runner.hpp"
 #include "tests/support/temp_dir.hpp"
 
 using namespace mfdem;
@@ -33,45 +34,14 @@ std::pair<double, double> stand_in(double mu_r, double h) {
   return {1000.0 * (0.8 + 0.5 * mu_r - 0.25 * h), 300.0 * (0.7 + 0.2 * mu_r + 0.8 * h * h)};
 }
 
-// A seed's packing shifts every model's outputs alike (paired, 3 %), and each run adds its own
-// small scatter (0.5 %): deterministic pseudo-random numbers of the seed and the model.
-double unit_noise(std::uint64_t a, std::uint64_t b) {
-  const std::uint64_t x = (a * 6364136223846793005ULL + b * 1442695040888963407ULL) ^ (a >> 7);
-  return double((x >> 11) % 2000001) / 1000000.0 - 1.0;  // uniform in [-1, 1]
+// The stand-in in a run store, its reference the truth itself.
+test::StandInRunner stand_in_runner(runs::RunStore& store, int fail_after = -1) {
+  const auto outputs = [](double mu_r, double h) {
+    const auto [peak, contact] = stand_in(mu_r, h);
+    return test::StandInOutputs{peak, contact, 1.0};
+  };
+  return test::StandInRunner(store, outputs, outputs(kTrueMuR, kTrueH), 0.03, 0.005, fail_after);
 }
-
-class StandInRunner final : public campaigns::CandidateRunner {
- public:
-  StandInRunner(runs::RunStore& store, int fail_after = -1) : store_(store), fail_after_(fail_after) {}
-  int computed = 0;
-
-  RunOutputs run(const Model& model, std::uint64_t seed, calibration::Level) override {
-    const std::string key = runs::folder_name(fmt::format("s{}-{}-{}", seed, model.policy, model.rolling_friction.value_or(-1)));
-    store_.ensure(key, "test", [&](const std::filesystem::path&) {
-      if (computed == fail_after_) throw std::logic_error("killed");  // rethrown: the study stops
-      ++computed;
-      double mu_r = kTrueMuR, h = kTrueH;  // the reference: the truth itself
-      if (model.policy != "all-clump") {
-        mu_r = *model.rolling_friction;
-        h = fidelity::parse_policy_spec(model.policy).parameters.at(0).value;
-      }
-      const auto [peak, contact] = stand_in(mu_r, h);
-      const double shared = 1.0 + 0.03 * unit_noise(seed, 1);
-      const std::uint64_t own = std::hash<std::string>{}(key);
-      runs::RunRecord r;
-      r.numbers = {{"peak_force", peak * shared * (1.0 + 0.005 * unit_noise(own, 2))},
-                   {"max_contact_force", contact * shared * (1.0 + 0.005 * unit_noise(own, 3))},
-                   {"push_wall_seconds", 1.0}};
-      return r;
-    }, [](const std::exception& e) { return dynamic_cast<const std::logic_error*>(&e) != nullptr; });
-    const auto record = store_.find(key);
-    return {*record->number("peak_force"), *record->number("max_contact_force"), 1.0};
-  }
-
- private:
-  runs::RunStore& store_;
-  int fail_after_;
-};
 
 campaigns::CalibrateRequest stand_in_request(const std::filesystem::path& record) {
   campaigns::CalibrateRequest r;
@@ -91,7 +61,7 @@ TEST_CASE("calibrate recovers a synthetic truth with intervals that hold it", "[
   // of the issue: |d mu_r| <= 0.03, |d h| <= 10 % of its range (0.07).
   const test::TempDir dir;
   runs::RunStore store(dir.path() / "store");
-  StandInRunner runner(store);
+  auto runner = stand_in_runner(store);
   const auto result = campaigns::run_calibration(runner, stand_in_request(dir.path() / "record.csv"));
   CAPTURE(result.calibrated.transpose(), result.loop.runs.size(), result.loop.stopped_by);
   CHECK(std::abs(result.calibrated(0) - kTrueMuR) <= 0.03);
@@ -133,7 +103,7 @@ TEST_CASE("a cheap level of fewer seeds shares its runs with the expensive level
           "[campaigns][calibrate]") {
   const test::TempDir dir;
   runs::RunStore store(dir.path() / "store");
-  StandInRunner runner(store);
+  auto runner = stand_in_runner(store);
   auto request = stand_in_request(dir.path() / "record.csv");
   request.two_levels = true;
   request.cheap_seeds = {1};
@@ -172,13 +142,13 @@ TEST_CASE("a synthetic truth's parameters are read from the reference model", "[
 TEST_CASE("a killed calibration restarts from the store and its record and ends the same", "[campaigns][calibrate]") {
   const test::TempDir dir;
   runs::RunStore whole_store(dir.path() / "whole");
-  StandInRunner whole_runner(whole_store);
+  auto whole_runner = stand_in_runner(whole_store);
   const auto whole = campaigns::run_calibration(whole_runner, stand_in_request(dir.path() / "whole.csv"));
 
   runs::RunStore store(dir.path() / "store");
-  StandInRunner killed(store, 20);
+  auto killed = stand_in_runner(store, 20);
   CHECK_THROWS_WITH(campaigns::run_calibration(killed, stand_in_request(dir.path() / "record.csv")), "killed");
-  StandInRunner again(store);
+  auto again = stand_in_runner(store);
   const auto resumed = campaigns::run_calibration(again, stand_in_request(dir.path() / "record.csv"));
   CHECK(again.computed == whole_runner.computed - 20);  // no finished run computed twice
   CHECK(resumed.calibrated == whole.calibrated);
