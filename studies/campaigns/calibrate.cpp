@@ -36,7 +36,8 @@ RunOutputs mean_of(const std::vector<RunOutputs>& runs) {
 
 std::vector<CalibrationParameter> parse_calibration_parameters(const std::string& text, const std::string& policy,
                                                                const railway::PushStudyConfig& config,
-                                                               const std::string& option) {
+                                                               const std::string& option,
+                                                               const std::string& policy_option) {
   const auto refuse = [&](const std::string& why) {
     throw config::ConfigError(fmt::format("{} {}: {}", option, text, why));
   };
@@ -44,11 +45,11 @@ std::vector<CalibrationParameter> parse_calibration_parameters(const std::string
   try {
     spec = fidelity::parse_policy_spec(policy);
   } catch (const fidelity::PolicyError& e) {
-    throw config::ConfigError(fmt::format("--policy {}: {}", policy, e.what()));
+    throw config::ConfigError(fmt::format("{} {}: {}", policy_option, policy, e.what()));
   }
   if (spec.name != "layer-by-height" && spec.name != "zone-by-distance")
-    throw config::ConfigError(fmt::format("--policy {}: expected layer-by-height or zone-by-distance (a policy with a "
-                                          "ball layer whose extent can be calibrated)", policy));
+    throw config::ConfigError(fmt::format("{} {}: expected layer-by-height or zone-by-distance (a policy with a "
+                                          "ball layer whose extent can be calibrated)", policy_option, policy));
   std::vector<CalibrationParameter> out;
   std::stringstream entries(text);
   for (std::string entry; std::getline(entries, entry, ',');) {

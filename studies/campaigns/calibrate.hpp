@@ -29,12 +29,13 @@ struct CalibrationParameter {
   double lower = 0.0, upper = 0.0;
 };
 
-// "mu_r=0:0.6,h_fraction=0.3:0.9" for `policy`; throws config::ConfigError naming `option` and the
-// value for a malformed entry, an unknown name, an empty range, or a range that lets no stone be a
+// "mu_r=0:0.6,h_fraction=0.3:0.9" for `policy`; throws config::ConfigError naming `option` (or
+// `policy_option` for a policy without a ball layer) and the value for a malformed entry, an unknown name, an empty range, or a range that lets no stone be a
 // ball or lies outside the bed of `config`.
 std::vector<CalibrationParameter> parse_calibration_parameters(const std::string& text, const std::string& policy,
                                                                const railway::PushStudyConfig& config,
-                                                               const std::string& option);
+                                                               const std::string& option,
+                                                               const std::string& policy_option = "--policy");
 
 // The model of a candidate: the policy with the parameters' values written in.
 Model candidate_model(const std::string& policy, const std::vector<CalibrationParameter>& parameters,

@@ -13,6 +13,12 @@ namespace {
 
 double standard_error(const MeanInterval& m) { return m.standard_deviation / std::sqrt(double(m.n)); }
 
+Eigen::VectorXd mean_outputs(const std::vector<RunOutputs>& per_seed) {
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(2);
+  for (const auto& r : per_seed) m += Eigen::Vector2d(r.peak_force, r.contact_force);
+  return m / double(per_seed.size());
+}
+
 class LayerSearch {
  public:
   LayerSearch(CandidateRunner& runner, const OptimiseLayerRequest& request, OptimiseLayerResult& result)
@@ -20,7 +26,6 @@ class LayerSearch {
         bounds_{{request.friction.lower, request.friction.upper}, {request.extent.lower, request.extent.upper}},
         targets_{calibration::relative_target(result.targets[0]), calibration::relative_target(result.targets[1])} {
     search_.shortest_length = request.shortest_length;
-    for (const auto& r : result.reference_runs) reference_wall_ += r.wall, reference_push_ += r.push_wall;
   }
 
   // Runs (mu_r, extent) on every seed, once.
@@ -31,10 +36,12 @@ class LayerSearch {
     x << mu_r, extent;
     const Model model = candidate_model(request_.policy, {request_.friction, request_.extent}, x);
     std::vector<RunOutputs> per_seed;
-    for (auto seed : request_.seeds) per_seed.push_back(runner_.run(model, seed, calibration::Level::expensive));
-    Eigen::VectorXd means = Eigen::VectorXd::Zero(2);
-    for (const auto& r : per_seed) means += Eigen::Vector2d(r.peak_force, r.contact_force);
-    result_.runs.push_back({x, calibration::Level::expensive, means / double(per_seed.size())});
+    for (auto seed : request_.seeds) {
+      per_seed.push_back(runner_.run(model, seed, calibration::Level::expensive));
+      result_.candidates_wall += per_seed.back().wall;
+      ++result_.dem_runs;
+    }
+    result_.runs.push_back({x, calibration::Level::expensive, mean_outputs(per_seed)});
     return per_point_.emplace(key, std::move(per_seed)).first->second;
   }
 
@@ -67,36 +74,13 @@ class LayerSearch {
   }
 
   LayerCandidate measured(double extent, double mu_r, const std::vector<RunOutputs>& per_seed) const {
-    LayerCandidate c;
+    LayerCandidate c = measure_candidate(per_seed, result_.reference_runs, request_.tolerance);
     c.extent = extent;
     c.rolling_friction = mu_r;
-    std::vector<double> peak, contact, peak_reference, contact_reference;
-    double wall = 0.0, push = 0.0;
-    for (std::size_t s = 0; s < per_seed.size(); ++s) {
-      peak.push_back(per_seed[s].peak_force), contact.push_back(per_seed[s].contact_force);
-      peak_reference.push_back(result_.reference_runs[s].peak_force);
-      contact_reference.push_back(result_.reference_runs[s].contact_force);
-      wall += per_seed[s].wall, push += per_seed[s].push_wall;
-    }
-    const Eigen::VectorXd m = mean_outputs(per_seed);
-    c.mean.peak_force = m(0), c.mean.contact_force = m(1);
-    c.mean.wall = wall / double(per_seed.size()), c.mean.push_wall = push / double(per_seed.size());
-    c.peak_error = mean_interval(relative_differences(peak, peak_reference));
-    c.contact_error = mean_interval(relative_differences(contact, contact_reference));
-    c.speedup = wall > 0.0 ? reference_wall_ / wall : 0.0;
-    c.push_speedup = push > 0.0 ? reference_push_ / push : 0.0;
-    c.tolerance_used = std::max(request_.tolerance,
-                                2.0 * std::max(standard_error(c.peak_error), standard_error(c.contact_error)));
-    c.within = std::abs(c.peak_error.mean) <= c.tolerance_used && std::abs(c.contact_error.mean) <= c.tolerance_used;
     return c;
   }
 
  private:
-  static Eigen::VectorXd mean_outputs(const std::vector<RunOutputs>& per_seed) {
-    Eigen::VectorXd m = Eigen::VectorXd::Zero(2);
-    for (const auto& r : per_seed) m += Eigen::Vector2d(r.peak_force, r.contact_force);
-    return m / double(per_seed.size());
-  }
 
   // On a fine grid of mu_r at the extent: the surrogate is smooth and one-dimensional here.
   double predicted_best_friction(double extent) {
@@ -120,10 +104,35 @@ class LayerSearch {
   std::vector<calibration::Target> targets_;
   calibration::HyperparameterSearch search_;
   std::map<std::pair<double, double>, std::vector<RunOutputs>> per_point_;
-  double reference_wall_ = 0.0, reference_push_ = 0.0;
 };
 
 }  // namespace
+
+LayerCandidate measure_candidate(const std::vector<RunOutputs>& per_seed, const std::vector<RunOutputs>& reference,
+                                 double tolerance) {
+  if (per_seed.size() != reference.size() || per_seed.empty())
+    throw std::invalid_argument("measure_candidate: the model's and the reference's runs on the same seeds");
+  LayerCandidate c;
+  std::vector<double> peak, contact, peak_reference, contact_reference;
+  double wall = 0.0, push = 0.0, reference_wall = 0.0, reference_push = 0.0;
+  for (std::size_t s = 0; s < per_seed.size(); ++s) {
+    peak.push_back(per_seed[s].peak_force), contact.push_back(per_seed[s].contact_force);
+    peak_reference.push_back(reference[s].peak_force), contact_reference.push_back(reference[s].contact_force);
+    wall += per_seed[s].wall, push += per_seed[s].push_wall;
+    reference_wall += reference[s].wall, reference_push += reference[s].push_wall;
+  }
+  const Eigen::VectorXd m = mean_outputs(per_seed);
+  const double n = double(per_seed.size());
+  c.mean.peak_force = m(0), c.mean.contact_force = m(1), c.mean.wall = wall / n, c.mean.push_wall = push / n;
+  c.peak_error = mean_interval(relative_differences(peak, peak_reference));
+  c.contact_error = mean_interval(relative_differences(contact, contact_reference));
+  c.speedup = wall > 0.0 ? reference_wall / wall : 0.0;
+  c.push_speedup = push > 0.0 ? reference_push / push : 0.0;
+  c.tolerance_used =
+      std::max(tolerance, 2.0 * std::max(standard_error(c.peak_error), standard_error(c.contact_error)));
+  c.within = std::abs(c.peak_error.mean) <= c.tolerance_used && std::abs(c.contact_error.mean) <= c.tolerance_used;
+  return c;
+}
 
 OptimiseLayerResult optimise_layer(CandidateRunner& runner, const OptimiseLayerRequest& request) {
   if (request.seeds.size() < 2)
@@ -138,6 +147,7 @@ OptimiseLayerResult optimise_layer(CandidateRunner& runner, const OptimiseLayerR
     result.targets[0] += r.peak_force / double(request.seeds.size()),
         result.targets[1] += r.contact_force / double(request.seeds.size());
 
+  for (const auto& r : result.reference_runs) result.reference_wall += r.wall / double(request.seeds.size());
   LayerSearch search(runner, request, result);
   // The shared design over (mu_r, extent): what every extent's calibration starts from.
   for (const auto& p : calibration::sobol_design({{request.friction.lower, request.friction.upper},

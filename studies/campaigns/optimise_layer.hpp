@@ -60,8 +60,30 @@ struct OptimiseLayerResult {
   double resolvable_tolerance = 0.0;
   int seeds_to_resolve = 0;
   bool cheaper_when_larger = true;         // layer height: more balls as it grows; zone distance: fewer
+  int dem_runs = 0;                        // of the (mu_r, extent) candidates, each on every seed
+  double candidates_wall = 0.0;            // s, their preparations and pushes
+  double reference_wall = 0.0;             // s, one reference run's on average
+  double cost_in_reference_runs() const { return reference_wall > 0.0 ? candidates_wall / reference_wall : 0.0; }
 };
 
 OptimiseLayerResult optimise_layer(CandidateRunner& runner, const OptimiseLayerRequest& request);
+
+// A model's runs against the reference's on the same seeds (in the same order): paired errors,
+// speedups and the verdict at `tolerance` (never below twice the errors' standard error). The
+// extent and mu_r are left to the caller.
+LayerCandidate measure_candidate(const std::vector<RunOutputs>& per_seed, const std::vector<RunOutputs>& reference,
+                                 double tolerance);
+
+// One family's search (a policy and its extent), and models measured as they are (uncalibrated)
+// on the same seeds for scale: what `mfdem optimise-layer` reports and draws.
+struct FamilyFront {
+  std::string policy;        // layer-by-height or zone-by-distance
+  std::string extent_name;   // h, h_fraction or d
+  OptimiseLayerResult result;
+};
+struct MeasuredModel {
+  std::string model;         // its text
+  LayerCandidate measured;
+};
 
 }  // namespace mfdem::campaigns

@@ -16,6 +16,7 @@
 #include "studies/campaigns/compare.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
+#include "studies/cli/reporting_runner.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
@@ -65,27 +66,6 @@ std::array<double, 2> parse_reference(const std::string& text) {
     throw config::ConfigError(fmt::format("--reference {}: both peak= and contact= are needed", text));
   return value;
 }
-
-// Prints a line per DEM run: the calibration's runs take minutes each.
-class ReportingRunner final : public campaigns::CandidateRunner {
- public:
-  ReportingRunner(campaigns::CandidateRunner& inner, const railway::PushStudyConfig& config, bool quiet)
-      : inner_(inner), config_(config), quiet_(quiet), start_(std::chrono::steady_clock::now()) {}
-  campaigns::RunOutputs run(const campaigns::Model& model, std::uint64_t seed, calibration::Level level) override {
-    const auto out = inner_.run(model, seed, level);
-    if (!quiet_)
-      fmt::print(std::cerr, "  {:>7.0f} s  {}{} seed {}: peak {:.1f} N, contact {:.1f} N\n",
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(), model.text(config_),
-                 level == calibration::Level::cheap ? " (cheap)" : "", seed, out.peak_force, out.contact_force);
-    return out;
-  }
-
- private:
-  campaigns::CandidateRunner& inner_;
-  const railway::PushStudyConfig& config_;
-  bool quiet_;
-  std::chrono::steady_clock::time_point start_;
-};
 
 int calibrate(const CalibrateOptions& o) {
   // Every input checked before any work.

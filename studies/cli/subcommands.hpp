@@ -19,5 +19,6 @@ void add_push_commands(CLI::App& app, Action& action);  // pack, push, push-test
 void add_compare_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
 void add_calibrate_command(CLI::App& app, Action& action);
+void add_optimise_layer_command(CLI::App& app, Action& action);
 
 }  // namespace mfdem::cli

@@ -5,8 +5,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "studies/campaigns/optimise_layer.hpp"
+#include "studies/campaigns/optimise_layer_report.hpp"
 #include "tests/support/stand_in_runner.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -115,4 +118,33 @@ TEST_CASE("optimise-layer needs two seeds and a range", "[campaigns][optimise]")
   r = request();
   r.extent.upper = r.extent.lower;
   CHECK_THROWS_WITH(campaigns::optimise_layer(stand_in, r), Catch::Contains("empty range"));
+}
+
+TEST_CASE("optimise-layer's tables name the chosen layer and hold every candidate", "[campaigns][optimise]") {
+  const test::TempDir dir;
+  runs::RunStore store(dir.path() / "store");
+  auto stand_in = runner(store);
+  const auto r = request();
+  const std::vector<campaigns::FamilyFront> fronts = {{r.policy, r.extent.name, campaigns::optimise_layer(stand_in, r)}};
+  const auto& result = fronts[0].result;
+  REQUIRE(result.chosen);
+  const auto& chosen = result.front[*result.chosen];
+  const std::vector<campaigns::MeasuredModel> uncalibrated = {{"uncalibrated stand-in", chosen}};
+  std::ostringstream markdown;
+  campaigns::write_optimise_markdown(markdown, "title", r, fronts, uncalibrated);
+  CAPTURE(markdown.str());
+  CHECK_THAT(markdown.str(), Catch::Contains(fmt::format("the cheapest within 5 % is h_fraction={:.4g}", chosen.extent)));
+  CHECK_THAT(markdown.str(), Catch::Contains("(chosen)"));
+  const auto csv = dir.path() / "front.csv";
+  campaigns::write_optimise_csv(csv, fronts, uncalibrated);
+  std::ifstream in(csv);
+  std::string line;
+  int rows = 0, chosen_rows = 0;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    ++rows;
+    chosen_rows += line.find(",1,1,") != std::string::npos;  // calibrated, chosen
+  }
+  CHECK(rows == int(result.front.size()) + 1);
+  CHECK(chosen_rows == 1);
 }

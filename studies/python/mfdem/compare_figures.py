@@ -132,9 +132,7 @@ def speedup_error(rows, config, seeds, out, quiet, tolerance):
     reference = next(r for r in rows if r["reference"] == 1)
     ordered = [reference] + [r for r in rows if r is not reference]
     for ax, (column, name, paper_key) in zip(axes, outputs):
-        ax.axhspan(-100 * tolerance, 100 * tolerance, color="green", alpha=0.08, lw=0,
-                   label=f"within {100 * tolerance:.0f} %")
-        ax.axhline(0.0, color="0.5", lw=0.8)
+        figures.error_speedup_panel(ax, name, paper_key, tolerance)
         for r, colour in zip(ordered, colours):
             x, y = r["total_speedup"], 100 * r[f"{column}_diff"]
             if not np.isfinite(x) or not np.isfinite(y):
@@ -142,13 +140,7 @@ def speedup_error(rows, config, seeds, out, quiet, tolerance):
             low, high = 100 * r[f"{column}_diff_low"], 100 * r[f"{column}_diff_high"]
             yerr = None if not (np.isfinite(low) and np.isfinite(high)) else [[y - low], [high - y]]
             ax.errorbar([x], [y], yerr=yerr, fmt="o", color=colour, capsize=4, ms=6, label=r["model"])
-        ax.plot([figures.PAPER_POINT["speedup"]], [100 * figures.PAPER_POINT[paper_key]], marker="*", ms=12,
-                color="0.4", ls="none", label=figures.PAPER_POINT["label"])
-        ax.set_xlabel("speedup (x): reference wall time / model's, re-settling + push")
-        ax.set_ylabel(f"difference from the reference (%)")
-        ax.set_title(name, fontsize=10)
         ax.set_xlim(0, max(3.0, 1.1 * max(r["total_speedup"] for r in rows if np.isfinite(r["total_speedup"]))))
-        ax.grid(alpha=0.3)
     handles, labels = axes[0].get_legend_handles_labels()
     legend_ax.legend(handles, labels, loc="center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle(f"{config}: what each model saved and what it cost, {seeds_text(seeds)}; the mean paired "

@@ -22,6 +22,20 @@ def save(fig, stem, quiet: bool = False) -> list:
     return paths
 
 
+def error_speedup_panel(ax, output_name: str, paper_key: str, tolerance: float) -> None:
+    """An axis of difference from the reference (%) against speedup: the tolerance band, zero,
+    the paper's point for scale (its key "peak" or "contact"), labels and grid."""
+    ax.axhspan(-100 * tolerance, 100 * tolerance, color="green", alpha=0.08, lw=0,
+               label=f"within {100 * tolerance:.0f} %")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.plot([PAPER_POINT["speedup"]], [100 * PAPER_POINT[paper_key]], marker="*", ms=12, color="0.4", ls="none",
+            label=PAPER_POINT["label"])
+    ax.set_xlabel("speedup (x): reference wall time / model's, re-settling + push")
+    ax.set_ylabel("difference from the reference (%)")
+    ax.set_title(output_name, fontsize=10)
+    ax.grid(alpha=0.3)
+
+
 def model_colours(n: int) -> list:
     """The reference black, the others from a qualitative map in their order."""
     cycle = plt.get_cmap("tab10").colors
