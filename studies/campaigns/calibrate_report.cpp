@@ -79,6 +79,16 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
                                "reference run's, {:.0f} s)", result.cost_in_reference_runs(), result.reference_wall)
                  : std::string(),
              result.loop.stopped_by);
+  if (result.surrogate && result.surrogate->two_levels()) {
+    // How much the cheap level carries: rho near 1 with a small delta is a cheap level that helps.
+    const auto& models = result.surrogate->outputs();
+    fmt::print(out, "The cheap level in the surrogates (co-kriging, y_expensive = rho y_cheap + delta):");
+    for (std::size_t j = 0; j < models.size() && j < 2; ++j)
+      fmt::print(out, "{} {}: rho = {:.3g}, run scatter (sd) cheap {:.3g} N, expensive {:.3g} N", j ? ";" : "",
+                 j ? "contact" : "peak", models[j].scale_factor(), std::sqrt(models[j].cheap_noise_variance()),
+                 std::sqrt(models[j].expensive_noise_variance()));
+    fmt::print(out, ". `figures/misfit_surface.png` shows the misfit predicted with and without the cheap runs.\n\n");
+  }
   fmt::print(out, "| step | cost (candidates) | returned point | predicted misfit | expected improvement |\n"
                   "|---|---|---|---|---|\n");
   for (std::size_t s = 0; s < result.loop.history.size(); ++s) {

@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include "fidelity/policy.hpp"
 #include "dem/hdf5_io.hpp"
 #include "studies/campaigns/calibrate.hpp"
 #include "studies/campaigns/calibrate_figures.hpp"
+#include "studies/campaigns/calibrate_report.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/railway/push_config.hpp"
 #include "tests/support/stand_in_runner.hpp"
@@ -119,6 +121,14 @@ TEST_CASE("a cheap level of fewer seeds shares its runs with the expensive level
   // expensive on seeds 1-3 costs three runs, not four. The reference (3) and the check (4 + 4)
   // are not the candidates'.
   CHECK(result.dem_runs == runner.computed - 3 - 8);
+  // The report says what the cheap level carries: a cheap level of seed 1 alone is the expensive
+  // one shifted by seed 1's packing (3 %), so rho is near 1.
+  std::ostringstream report;
+  campaigns::write_calibration_markdown(report, "title", request, result);
+  CHECK_THAT(report.str(), Catch::Contains("A cheap level (seeds 1 only)"));
+  CHECK_THAT(report.str(), Catch::Contains("peak: rho = "));
+  REQUIRE(result.surrogate);
+  CHECK(result.surrogate->outputs()[0].scale_factor() == Approx(1.0).margin(0.1));
   CHECK(result.loop.cost <= request.budget);
   CHECK(std::abs(result.calibrated(0) - kTrueMuR) <= 0.03);
   CHECK(std::abs(result.calibrated(1) - kTrueH) <= 0.07);
