@@ -29,9 +29,14 @@ std::string verdict(const FamilyFront& f, double tolerance) {
   const auto& r = f.result;
   if (r.chosen) {
     const auto& c = r.front[*r.chosen];
-    return fmt::format("{}: the cheapest within {:.3g} % is {}, mu_r = {:.3g}: speedup {:.2f}x (push {:.2f}x), peak "
-                       "{} %, contact {} %", f.policy, 100.0 * tolerance, extent_text(f, c.extent), c.rolling_friction,
-                       c.speedup, c.push_speedup, percent(c.peak_error), percent(c.contact_error));
+    // Judged at a coarser tolerance than asked when the seeds resolve no finer: say so here.
+    const std::string within = c.tolerance_used > tolerance
+                                   ? fmt::format("within {:.3g} % (the finest these seeds resolve; {:.3g} % asked)",
+                                                 100.0 * c.tolerance_used, 100.0 * tolerance)
+                                   : fmt::format("within {:.3g} %", 100.0 * tolerance);
+    return fmt::format("{}: the cheapest {} is {}, mu_r = {:.3g}: speedup {:.2f}x (push {:.2f}x), peak {} %, contact {} %",
+                       f.policy, within, extent_text(f, c.extent), c.rolling_friction, c.speedup, c.push_speedup,
+                       percent(c.peak_error), percent(c.contact_error));
   }
   const auto order = by_speedup(r);
   if (order.empty()) return fmt::format("{}: nothing evaluated", f.policy);

@@ -102,6 +102,11 @@ TEST_CASE("a tolerance finer than the seeds resolve is reported, not met silentl
   CAPTURE(result.resolvable_tolerance, result.seeds_to_resolve);
   CHECK(result.resolvable_tolerance > 0.01);
   CHECK(result.seeds_to_resolve > 3);
+  // The verdict says at which tolerance its choice was judged.
+  std::ostringstream markdown;
+  campaigns::write_optimise_markdown(markdown, "title", r, {{r.policy, r.extent.name, result}}, {});
+  CHECK_THAT(markdown.str(), Catch::Contains("the finest these seeds resolve; 1 % asked"));
+  CHECK_THAT(markdown.str(), Catch::Contains("seeds would resolve 1 %"));
   for (const auto& c : result.front) {
     CHECK(c.tolerance_used > 0.01);  // the tolerance judged against is the resolvable one
     CHECK(c.tolerance_used >= 2.0 * c.contact_error.standard_deviation / std::sqrt(3.0) - 1e-12);
