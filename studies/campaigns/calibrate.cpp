@@ -181,26 +181,33 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.record = request.record;
   o.run_seeds = {0};  // unused: every candidate runs on all the request's seeds
   o.search.shortest_length = request.shortest_length;
-  std::set<std::string> counted;  // the DEM runs whose cost is counted (a run shared by both levels once)
+  const auto seeds_of = [&](calibration::Level level) {
+    return level == calibration::Level::cheap && !request.cheap_seeds.empty() ? request.cheap_seeds : request.seeds;
+  };
   const calibration::Evaluate evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
-    const bool cheap = level == calibration::Level::cheap;
     std::vector<RunOutputs> per_seed;
-    for (auto seed : cheap && !request.cheap_seeds.empty() ? request.cheap_seeds : request.seeds) {
-      per_seed.push_back(runner.run(model, seed, level));
-      std::string id = fmt::format("{} {}", cheap && !request.cheap_on_same_config ? "cheap" : "expensive", seed);
-      for (Eigen::Index k = 0; k < x.size(); ++k) id += fmt::format(" {:.17g}", x(k));
-      if (counted.insert(id).second) {
-        result.candidates_wall += per_seed.back().wall;
-        ++result.dem_runs;
-      }
-    }
+    for (auto seed : seeds_of(level)) per_seed.push_back(runner.run(model, seed, level));
     const RunOutputs mean = mean_of(per_seed);
     Eigen::VectorXd outputs(2);
     outputs << mean.peak_force, mean.contact_force;
     return outputs;
   };
   result.loop = calibration::run_calibration_loop(calibration::one_at_a_time(evaluate), o);
+  // The cost, from the runs themselves (a restarted loop replays its record without running):
+  // each distinct DEM run once (a run shared by both levels of the same config is one run).
+  std::set<std::string> counted;
+  for (const auto& r : result.loop.runs) {
+    const bool cheap = r.level == calibration::Level::cheap;
+    const Model model = candidate_model(request.policy, request.parameters, r.parameters);
+    for (auto seed : seeds_of(r.level)) {
+      std::string id = fmt::format("{} {}", cheap && !request.cheap_on_same_config ? "cheap" : "expensive", seed);
+      for (Eigen::Index k = 0; k < r.parameters.size(); ++k) id += fmt::format(" {:.17g}", r.parameters(k));
+      if (!counted.insert(id).second) continue;
+      result.candidates_wall += runner.run(model, seed, r.level).wall;
+      ++result.dem_runs;
+    }
+  }
 
   result.surrogate.emplace(o.bounds, o.targets, o.kind, o.search);
   calibration::MisfitSurrogate& surrogate = *result.surrogate;

@@ -68,8 +68,11 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
                sd, 100.0 * (result.predicted[j].mean - result.targets[j]) / result.targets[j],
                percent_interval(*verified[j]));
   }
-  fmt::print(out, "\nThe verified differences are (model - reference) / reference on seeds {} never used in the fit, "
-                  "with the half-width of their 95 % Student-t interval.\n\n", seeds_text(request.verify_seeds));
+  if (request.verify_seeds.empty())
+    fmt::print(out, "\nNot checked on fresh seeds (no --verify-seeds).\n\n");
+  else
+    fmt::print(out, "\nThe verified differences are (model - reference) / reference on seeds {} never used in the fit, "
+                    "with the half-width of their 95 % Student-t interval.\n\n", seeds_text(request.verify_seeds));
   std::size_t cheap_candidates = 0;
   for (const auto& r : result.loop.runs) cheap_candidates += r.level == calibration::Level::cheap;
   fmt::print(out, "Cost: {} candidates{} ({} DEM runs of the model){}; stopped by {}.\n\n", result.loop.runs.size(),

@@ -163,6 +163,14 @@ TEST_CASE("a killed calibration restarts from the store and its record and ends 
   CHECK(again.computed == whole_runner.computed - 20);  // no finished run computed twice
   CHECK(resumed.calibrated == whole.calibrated);
   CHECK(resumed.loop.runs.size() == whole.loop.runs.size());
+  // The cost counts the replayed runs too.
+  CHECK(resumed.dem_runs == whole.dem_runs);
+  CHECK(resumed.candidates_wall == whole.candidates_wall);
+  // A third start replays everything: the same cost again.
+  auto third = stand_in_runner(store);
+  const auto replayed = campaigns::run_calibration(third, stand_in_request(dir.path() / "record.csv"));
+  CHECK(third.computed == 0);
+  CHECK(replayed.dem_runs == whole.dem_runs);
 }
 
 TEST_CASE("calibrate refuses parameter ranges that are empty, hold no ball or leave the bed", "[campaigns][calibrate]") {
