@@ -18,11 +18,6 @@ from matplotlib.colors import Normalize
 from mfdem import figures, files
 
 
-def seeds_text(n) -> str:
-    n = int(n)
-    return f"{n} seed" + ("s" if n != 1 else "")
-
-
 def force_displacement(data, config, out, quiet):
     curves = [c for c in data["curves"] if len(c["u"])]
     scale, unit = figures.force_unit(max(c["high"].max() for c in curves))
@@ -33,7 +28,7 @@ def force_displacement(data, config, out, quiet):
             continue
         u = c["u"] * 1e3
         ax.fill_between(u, c["low"] * scale, c["high"] * scale, color=colour, alpha=0.15, lw=0)
-        ax.plot(u, c["mean"] * scale, color=colour, lw=1.6, label=f"{c['model']} ({seeds_text(c['seeds'])})")
+        ax.plot(u, c["mean"] * scale, color=colour, lw=1.6, label=f"{c['model']} ({figures.seeds_text(c['seeds'])})")
     ax.set_xlabel("sleeper displacement u (mm)")
     ax.set_ylabel(f"lateral force on the sleeper F ({unit})")
     ax.set_xlim(left=0)
@@ -122,11 +117,7 @@ def force_chains(data, config, out, quiet):
 
 
 def speedup_error(rows, config, seeds, out, quiet, tolerance):
-    fig = plt.figure(figsize=(11, 5.6), constrained_layout=True)
-    grid = fig.add_gridspec(2, 2, height_ratios=[1, 0.22])
-    axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
-    legend_ax = fig.add_subplot(grid[1, :])
-    legend_ax.axis("off")
+    fig, axes, legend_ax = figures.error_speedup_figure(5.6, 0.22)
     outputs = [("peak_force", "peak lateral force", "peak"), ("max_contact_force", "maximum contact force", "contact")]
     colours = figures.model_colours(len(rows))
     reference = next(r for r in rows if r["reference"] == 1)
@@ -141,9 +132,8 @@ def speedup_error(rows, config, seeds, out, quiet, tolerance):
             yerr = None if not (np.isfinite(low) and np.isfinite(high)) else [[y - low], [high - y]]
             ax.errorbar([x], [y], yerr=yerr, fmt="o", color=colour, capsize=4, ms=6, label=r["model"])
         ax.set_xlim(0, max(3.0, 1.1 * max(r["total_speedup"] for r in rows if np.isfinite(r["total_speedup"]))))
-    handles, labels = axes[0].get_legend_handles_labels()
-    legend_ax.legend(handles, labels, loc="center", ncol=2, fontsize=8, frameon=False)
-    fig.suptitle(f"{config}: what each model saved and what it cost, {seeds_text(seeds)}; the mean paired "
+    figures.shared_legend(legend_ax, axes[0])
+    fig.suptitle(f"{config}: what each model saved and what it cost, {figures.seeds_text(seeds)}; the mean paired "
                  "difference\nwith its 95 % Student-t interval over the seeds (none with one seed)", fontsize=10)
     return figures.save(fig, out / "speedup_error", quiet)
 

@@ -22,6 +22,29 @@ def save(fig, stem, quiet: bool = False) -> list:
     return paths
 
 
+def seeds_text(n) -> str:
+    """"1 seed", "3 seeds"."""
+    n = int(n)
+    return f"{n} seed" + ("s" if n != 1 else "")
+
+
+def error_speedup_figure(height: float, legend_share: float):
+    """Two panels side by side (peak force, contact force) over a row that holds their shared
+    legend: (fig, [left, right], legend_ax). Fill the legend with `shared_legend` at the end."""
+    fig = plt.figure(figsize=(11, height), constrained_layout=True)
+    grid = fig.add_gridspec(2, 2, height_ratios=[1, legend_share])
+    axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
+    legend_ax = fig.add_subplot(grid[1, :])
+    legend_ax.axis("off")
+    return fig, axes, legend_ax
+
+
+def shared_legend(legend_ax, ax) -> None:
+    """The legend of `ax`'s artists, drawn in the legend row."""
+    handles, labels = ax.get_legend_handles_labels()
+    legend_ax.legend(handles, labels, loc="center", ncol=2, fontsize=8, frameon=False)
+
+
 def error_speedup_panel(ax, output_name: str, paper_key: str, tolerance: float) -> None:
     """An axis of difference from the reference (%) against speedup: the tolerance band, zero,
     the paper's point for scale (its key "peak" or "contact"), labels and grid."""

@@ -19,11 +19,7 @@ from mfdem import figures, files
 
 
 def front(rows, labels, out: Path, quiet: bool):
-    fig = figures.plt.figure(figsize=(11, 5.8), constrained_layout=True)
-    grid = fig.add_gridspec(2, 2, height_ratios=[1, 0.24])
-    axes = [fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])]
-    legend_ax = fig.add_subplot(grid[1, :])
-    legend_ax.axis("off")
+    fig, axes, legend_ax = figures.error_speedup_figure(5.8, 0.24)
     contact_name = "99.9 % quantile of the contact force" if labels["contact_quantile"] else "maximum contact force"
     families = list(dict.fromkeys(r["family"] for r in rows if r["calibrated"] == 1))
     colours = figures.model_colours(len(families) + 1)[1:]
@@ -50,11 +46,9 @@ def front(rows, labels, out: Path, quiet: bool):
             ax.errorbar([r["speedup"]], [100 * r[f"{column}_diff"]], yerr=half if np.isfinite(half) else None,
                         fmt="s", mfc="none", color="0.3", capsize=3, ms=7, label=f"{r['family']} (uncalibrated)")
         ax.set_xlim(0, max(3.0, 1.1 * max(r["speedup"] for r in rows)))
-    handles, names = axes[0].get_legend_handles_labels()
-    legend_ax.legend(handles, names, loc="center", ncol=2, fontsize=8, frameon=False)
-    seeds = int(labels["seeds"])
+    figures.shared_legend(legend_ax, axes[0])
     fig.suptitle(f"{labels['config']}: the cheapest layer within {100 * labels['tolerance']:.0f} % "
-                 f"(extents labelled), {seeds} seed{'s' if seeds != 1 else ''}; mean paired difference with its 95 % "
+                 f"(extents labelled), {figures.seeds_text(labels['seeds'])}; mean paired difference with its 95 % "
                  "Student-t interval", fontsize=10)
     return figures.save(fig, out / "front", quiet)
 
