@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <set>
+#include <map>
 #include <sstream>
 
 #include "fidelity/policy.hpp"
@@ -23,7 +23,9 @@ double farthest_from_sleeper(const railway::SectionGeometry& g) {
   return std::max(g.depth_under_sleeper, g.toe_half_width() - 0.5 * g.sleeper_length);
 }
 
-RunOutputs mean_of(const std::vector<RunOutputs>& runs) {
+}  // namespace
+
+RunOutputs mean_outputs(const std::vector<RunOutputs>& runs) {
   RunOutputs m;
   for (const auto& r : runs)
     m.peak_force += r.peak_force, m.contact_force += r.contact_force, m.push_wall += r.push_wall, m.wall += r.wall;
@@ -31,8 +33,6 @@ RunOutputs mean_of(const std::vector<RunOutputs>& runs) {
   m.peak_force /= n, m.contact_force /= n, m.push_wall /= n, m.wall /= n;
   return m;
 }
-
-}  // namespace
 
 std::vector<CalibrationParameter> parse_calibration_parameters(const std::string& text, const std::string& policy,
                                                                const railway::PushStudyConfig& config,
@@ -156,7 +156,7 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
     result.targets = *request.reference;
   } else {
     for (auto seed : request.seeds) result.reference_runs.push_back(runner.run(request.reference_model, seed, calibration::Level::expensive));
-    const RunOutputs mean = mean_of(result.reference_runs);
+    const RunOutputs mean = mean_outputs(result.reference_runs);
     result.targets = {mean.peak_force, mean.contact_force};
     if (result.reference_runs.size() > 1) {
       std::vector<double> peaks, contacts;
@@ -181,33 +181,35 @@ CalibrateResult run_calibration(CandidateRunner& runner, const CalibrateRequest&
   o.record = request.record;
   o.run_seeds = {0};  // unused: every candidate runs on all the request's seeds
   o.search.shortest_length = request.shortest_length;
-  const auto seeds_of = [&](calibration::Level level) {
-    return level == calibration::Level::cheap && !request.cheap_seeds.empty() ? request.cheap_seeds : request.seeds;
+  // A DEM run's identity: a run shared by both levels of the same config is one run.
+  const auto run_id = [&](const Eigen::VectorXd& x, std::uint64_t seed, calibration::Level level) {
+    std::string id = fmt::format("{} {}", level == calibration::Level::cheap && !request.cheap_on_same_config
+                                              ? "cheap" : "expensive", seed);
+    for (Eigen::Index k = 0; k < x.size(); ++k) id += fmt::format(" {:.17g}", x(k));
+    return id;
   };
+  std::map<std::string, double> wall_of;  // the runs made here, by identity
   const calibration::Evaluate evaluate = [&](const Eigen::VectorXd& x, std::uint64_t, calibration::Level level) {
     const Model model = candidate_model(request.policy, request.parameters, x);
     std::vector<RunOutputs> per_seed;
-    for (auto seed : seeds_of(level)) per_seed.push_back(runner.run(model, seed, level));
-    const RunOutputs mean = mean_of(per_seed);
+    for (auto seed : request.seeds_at(level)) {
+      per_seed.push_back(runner.run(model, seed, level));
+      wall_of[run_id(x, seed, level)] = per_seed.back().wall;
+    }
+    const RunOutputs mean = mean_outputs(per_seed);
     Eigen::VectorXd outputs(2);
     outputs << mean.peak_force, mean.contact_force;
     return outputs;
   };
   result.loop = calibration::run_calibration_loop(calibration::one_at_a_time(evaluate), o);
-  // The cost, from the runs themselves (a restarted loop replays its record without running):
-  // each distinct DEM run once (a run shared by both levels of the same config is one run).
-  std::set<std::string> counted;
-  for (const auto& r : result.loop.runs) {
-    const bool cheap = r.level == calibration::Level::cheap;
-    const Model model = candidate_model(request.policy, request.parameters, r.parameters);
-    for (auto seed : seeds_of(r.level)) {
-      std::string id = fmt::format("{} {}", cheap && !request.cheap_on_same_config ? "cheap" : "expensive", seed);
-      for (Eigen::Index k = 0; k < r.parameters.size(); ++k) id += fmt::format(" {:.17g}", r.parameters(k));
-      if (!counted.insert(id).second) continue;
-      result.candidates_wall += runner.run(model, seed, r.level).wall;
-      ++result.dem_runs;
-    }
-  }
+  // The cost of every distinct run: a restarted loop replays its record without running, so the
+  // runs it replayed are looked up in the store.
+  for (const auto& r : result.loop.runs)
+    for (auto seed : request.seeds_at(r.level))
+      if (const std::string id = run_id(r.parameters, seed, r.level); !wall_of.count(id))
+        wall_of[id] = runner.run(candidate_model(request.policy, request.parameters, r.parameters), seed, r.level).wall;
+  for (const auto& [id, wall] : wall_of) result.candidates_wall += wall;
+  result.dem_runs = int(wall_of.size());
 
   result.surrogate.emplace(o.bounds, o.targets, o.kind, o.search);
   calibration::MisfitSurrogate& surrogate = *result.surrogate;

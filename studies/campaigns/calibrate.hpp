@@ -49,6 +49,9 @@ struct RunOutputs {
   double wall = 0.0;           // s, the model's preparation (from the shared deposition) and push
 };
 
+// The means over runs (of one model on several seeds) of every field.
+RunOutputs mean_outputs(const std::vector<RunOutputs>& runs);
+
 // Where the runs come from: DEM pushes in the store (PushRunner), or a stand-in in tests.
 class CandidateRunner {
  public:
@@ -94,6 +97,10 @@ struct CalibrateRequest {
   // itself; the runs it shares with the expensive level are then one run, counted once.
   std::vector<std::uint64_t> cheap_seeds;
   bool cheap_on_same_config = false;
+  // The seeds a candidate runs on at a level.
+  const std::vector<std::uint64_t>& seeds_at(calibration::Level level) const {
+    return level == calibration::Level::cheap && !cheap_seeds.empty() ? cheap_seeds : seeds;
+  }
   std::uint64_t design_seed = 1;
   double stop_improvement = 1e-5;
   // The surrogates' shortest length scale, as a fraction of each parameter's range: DEM outputs

@@ -38,10 +38,9 @@ void write_calibration_markdown(std::ostream& out, const std::string& title, con
   if (request.two_levels)
     fmt::print(out, "A cheap level ({}) informs the surrogates by co-kriging; a cheap candidate costs {:g} of an "
                     "expensive one.\n\n",
-               request.cheap_on_same_config ? fmt::format("seeds {} only", seeds_text(request.cheap_seeds))
-                                            : fmt::format("the cheap config on seeds {}",
-                                                          seeds_text(request.cheap_seeds.empty() ? request.seeds
-                                                                                                 : request.cheap_seeds)),
+               fmt::format("{} {}", request.cheap_on_same_config ? "seeds" : "the cheap config on seeds",
+                           seeds_text(request.seeds_at(calibration::Level::cheap)))
+                   + (request.cheap_on_same_config ? " only" : ""),
                request.cheap_cost);
   const auto truth = reference_parameters(request);
   fmt::print(out, "| parameter | range | calibrated | 90 % interval | posterior median |{}\n|---|---|---|---|---|{}\n",

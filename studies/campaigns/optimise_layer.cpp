@@ -13,11 +13,8 @@ namespace {
 
 double standard_error(const MeanInterval& m) { return m.standard_deviation / std::sqrt(double(m.n)); }
 
-Eigen::VectorXd mean_outputs(const std::vector<RunOutputs>& per_seed) {
-  Eigen::VectorXd m = Eigen::VectorXd::Zero(2);
-  for (const auto& r : per_seed) m += Eigen::Vector2d(r.peak_force, r.contact_force);
-  return m / double(per_seed.size());
-}
+// The two outputs a calibration matches, as the surrogate takes them.
+Eigen::VectorXd matched(const RunOutputs& r) { return Eigen::Vector2d(r.peak_force, r.contact_force); }
 
 class LayerSearch {
  public:
@@ -41,7 +38,7 @@ class LayerSearch {
       result_.candidates_wall += per_seed.back().wall;
       ++result_.dem_runs;
     }
-    result_.runs.push_back({x, calibration::Level::expensive, mean_outputs(per_seed)});
+    result_.runs.push_back({x, calibration::Level::expensive, matched(mean_outputs(per_seed))});
     return per_point_.emplace(key, std::move(per_seed)).first->second;
   }
 
@@ -60,28 +57,22 @@ class LayerSearch {
       ++runs_here;
     }
     // The best run at this extent, by its measured misfit.
-    const std::pair<const std::pair<double, double>, std::vector<RunOutputs>>* best = nullptr;
+    auto best = per_point_.end();
     double best_misfit = INFINITY;
-    for (const auto& entry : per_point_) {
-      if (entry.first.second != extent) continue;
-      const double m = calibration::misfit(mean_outputs(entry.second), targets_);
-      if (m < best_misfit) best_misfit = m, best = &entry;
+    for (auto it = per_point_.begin(); it != per_point_.end(); ++it) {
+      if (it->first.second != extent) continue;
+      const double m = calibration::misfit(matched(mean_outputs(it->second)), targets_);
+      if (m < best_misfit) best_misfit = m, best = it;
     }
-    if (!best) throw std::logic_error("optimise_layer: no run at a calibrated extent");
-    LayerCandidate c = measured(extent, best->first.first, best->second);
+    if (best == per_point_.end()) throw std::logic_error("optimise_layer: no run at a calibrated extent");
+    LayerCandidate c = measure_candidate(best->second, result_.reference_runs, request_.tolerance);
+    c.extent = extent;
+    c.rolling_friction = best->first.first;
     c.runs_here = runs_here;
     return c;
   }
 
-  LayerCandidate measured(double extent, double mu_r, const std::vector<RunOutputs>& per_seed) const {
-    LayerCandidate c = measure_candidate(per_seed, result_.reference_runs, request_.tolerance);
-    c.extent = extent;
-    c.rolling_friction = mu_r;
-    return c;
-  }
-
  private:
-
   // On a fine grid of mu_r at the extent: the surrogate is smooth and one-dimensional here.
   double predicted_best_friction(double extent) {
     calibration::MisfitSurrogate surrogate(bounds_, targets_, calibration::KernelKind::matern52, search_);
@@ -114,20 +105,16 @@ LayerCandidate measure_candidate(const std::vector<RunOutputs>& per_seed, const 
     throw std::invalid_argument("measure_candidate: the model's and the reference's runs on the same seeds");
   LayerCandidate c;
   std::vector<double> peak, contact, peak_reference, contact_reference;
-  double wall = 0.0, push = 0.0, reference_wall = 0.0, reference_push = 0.0;
   for (std::size_t s = 0; s < per_seed.size(); ++s) {
     peak.push_back(per_seed[s].peak_force), contact.push_back(per_seed[s].contact_force);
     peak_reference.push_back(reference[s].peak_force), contact_reference.push_back(reference[s].contact_force);
-    wall += per_seed[s].wall, push += per_seed[s].push_wall;
-    reference_wall += reference[s].wall, reference_push += reference[s].push_wall;
   }
-  const Eigen::VectorXd m = mean_outputs(per_seed);
-  const double n = double(per_seed.size());
-  c.mean.peak_force = m(0), c.mean.contact_force = m(1), c.mean.wall = wall / n, c.mean.push_wall = push / n;
+  c.mean = mean_outputs(per_seed);
+  const RunOutputs reference_mean = mean_outputs(reference);
   c.peak_error = mean_interval(relative_differences(peak, peak_reference));
   c.contact_error = mean_interval(relative_differences(contact, contact_reference));
-  c.speedup = wall > 0.0 ? reference_wall / wall : 0.0;
-  c.push_speedup = push > 0.0 ? reference_push / push : 0.0;
+  c.speedup = c.mean.wall > 0.0 ? reference_mean.wall / c.mean.wall : 0.0;
+  c.push_speedup = c.mean.push_wall > 0.0 ? reference_mean.push_wall / c.mean.push_wall : 0.0;
   c.tolerance_used =
       std::max(tolerance, 2.0 * std::max(standard_error(c.peak_error), standard_error(c.contact_error)));
   c.within = std::abs(c.peak_error.mean) <= c.tolerance_used && std::abs(c.contact_error.mean) <= c.tolerance_used;
@@ -143,11 +130,9 @@ OptimiseLayerResult optimise_layer(CandidateRunner& runner, const OptimiseLayerR
   result.cheaper_when_larger = request.extent.name != "d";
   for (auto seed : request.seeds)
     result.reference_runs.push_back(runner.run(request.reference_model, seed, calibration::Level::expensive));
-  for (const auto& r : result.reference_runs)
-    result.targets[0] += r.peak_force / double(request.seeds.size()),
-        result.targets[1] += r.contact_force / double(request.seeds.size());
-
-  for (const auto& r : result.reference_runs) result.reference_wall += r.wall / double(request.seeds.size());
+  const RunOutputs reference = mean_outputs(result.reference_runs);
+  result.targets = {reference.peak_force, reference.contact_force};
+  result.reference_wall = reference.wall;
   LayerSearch search(runner, request, result);
   // The shared design over (mu_r, extent): what every extent's calibration starts from.
   for (const auto& p : calibration::sobol_design({{request.friction.lower, request.friction.upper},

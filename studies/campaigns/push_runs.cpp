@@ -122,6 +122,12 @@ std::vector<Model> parse_models(const std::string& list, const std::string& opti
   return models;
 }
 
+Model parse_model(const std::string& text, const std::string& option) {
+  const auto models = parse_models(text, option);
+  if (models.size() != 1) throw config::ConfigError(fmt::format("{} {}: one model expected", option, text));
+  return models.front();
+}
+
 railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, const Model& model) {
   railway::PushStudyConfig c = config;
   c.fidelity.policy = model.policy;

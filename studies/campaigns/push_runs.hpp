@@ -32,6 +32,8 @@ struct Model {
 // ',' that starts a known policy name. Checks every policy name and parameter name against the
 // registry; throws config::ConfigError naming `option` and the value.
 std::vector<Model> parse_models(const std::string& list, const std::string& option);
+// One model, as parse_models reads it; refuses a list of several, naming `option`.
+Model parse_model(const std::string& text, const std::string& option);
 
 // The config with the model's [fidelity] written in.
 railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, const Model& model);
