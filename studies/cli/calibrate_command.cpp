@@ -2,9 +2,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
-#include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -16,9 +14,8 @@
 #include "studies/campaigns/compare.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
-#include "studies/cli/reporting_runner.hpp"
+#include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/subcommands.hpp"
-#include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
 
 namespace mfdem::cli {
@@ -83,10 +80,7 @@ int calibrate(const CalibrateOptions& o) {
         throw config::ConfigError(fmt::format("--verify-seeds {}: seed {} is also a fitting seed (--seeds {}); the check "
                                               "needs fresh ones", o.verify_seeds, s, o.seeds));
   if (!o.reference.empty()) request.reference = parse_reference(o.reference);
-  const auto reference_models = campaigns::parse_models(o.reference_model, "--reference-model");
-  if (reference_models.size() != 1)
-    throw config::ConfigError(fmt::format("--reference-model {}: one model expected", o.reference_model));
-  request.reference_model = reference_models.front();
+  request.reference_model = campaigns::parse_model(o.reference_model, "--reference-model");
   request.contact_quantile = o.contact == "q999";
   request.budget = o.budget;
   request.batch = o.batch;
@@ -117,28 +111,19 @@ int calibrate(const CalibrateOptions& o) {
   fs::create_directories(o.common.out);
   request.record = o.common.out / "calibration_record.csv";
 
-  runs::RunStore store(o.common.out);
-  store.clear_abandoned();
-  campaigns::RunContext context;
-  context.revision = git_revision();
-  campaigns::PushRunner pushes(store, config, cheap, context, request.contact_quantile);
-  ReportingRunner runner(pushes, config, o.common.quiet);
+  CampaignRuns runs(o.common.out, config, cheap, request.contact_quantile, o.common.quiet);
   if (!o.common.quiet)
     fmt::print(std::cerr, "calibrate {} on {}: {} over seeds {}, budget {} candidates; runs in {}\n", o.parameters,
                config.name, o.policy, o.seeds, o.budget, o.common.out.string());
-  const campaigns::CalibrateResult result = campaigns::run_calibration(runner, request);
-  store.write_index();
+  const campaigns::CalibrateResult result = campaigns::run_calibration(runs.runner, request);
+  runs.store.write_index();
   const std::string title = fmt::format("mfdem calibrate {} --policy {} --parameters {}", o.config, o.policy, o.parameters);
   const fs::path markdown = o.common.out / "calibrate.md", csv = o.common.out / "calibrate.csv";
-  {
-    std::ofstream file(markdown);
-    campaigns::write_calibration_markdown(file, title, request, result);
-  }
+  write_report(markdown, o.common.quiet,
+               [&](std::ostream& out) { campaigns::write_calibration_markdown(out, title, request, result); });
   campaigns::write_calibration_csv(csv, request, result);
-  if (!o.common.quiet) {
-    campaigns::write_calibration_markdown(std::cout, title, request, result);
+  if (!o.common.quiet)
     fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), request.record.string());
-  }
   if (o.figures) {
     campaigns::write_calibration_figure_data(o.common.out / "calibration.h5", config.name, request, result);
     draw_study_figures("calibrate_figures", o.common.out.string(), o.common.quiet);

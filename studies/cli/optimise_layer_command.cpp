@@ -13,9 +13,8 @@
 #include "studies/campaigns/optimise_layer_report.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
-#include "studies/cli/reporting_runner.hpp"
+#include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/subcommands.hpp"
-#include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
 
 namespace mfdem::cli {
@@ -62,10 +61,7 @@ int optimise(const OptimiseOptions& o) {
     throw config::ConfigError(fmt::format("--seeds {}: at least two seeds (the tolerance is judged against their "
                                           "spread)", o.seeds));
   base.friction = campaigns::parse_calibration_parameters("mu_r=" + o.friction, "layer-by-height", config, "--mu-r")[0];
-  const auto reference_models = campaigns::parse_models(o.reference_model, "--reference-model");
-  if (reference_models.size() != 1)
-    throw config::ConfigError(fmt::format("--reference-model {}: one model expected", o.reference_model));
-  base.reference_model = reference_models.front();
+  base.reference_model = campaigns::parse_model(o.reference_model, "--reference-model");
   base.contact_quantile = o.contact == "q999";
   base.tolerance = o.tolerance / 100.0;
   base.initial = o.initial, base.runs_per_extent = o.runs_per_extent, base.max_extents = o.max_extents;
@@ -79,13 +75,7 @@ int optimise(const OptimiseOptions& o) {
   const std::vector<campaigns::Model> uncalibrated =
       o.uncalibrated == "none" ? std::vector<campaigns::Model>{} : campaigns::parse_models(o.uncalibrated, "--uncalibrated");
 
-  fs::create_directories(o.common.out);
-  runs::RunStore store(o.common.out);
-  store.clear_abandoned();
-  campaigns::RunContext context;
-  context.revision = git_revision();
-  campaigns::PushRunner pushes(store, config, std::nullopt, context, base.contact_quantile);
-  ReportingRunner runner(pushes, config, o.common.quiet);
+  CampaignRuns runs(o.common.out, config, std::nullopt, base.contact_quantile, o.common.quiet);
 
   std::vector<campaigns::FamilyFront> fronts;
   for (const auto& r : requests) {
@@ -93,35 +83,30 @@ int optimise(const OptimiseOptions& o) {
       fmt::print(std::cerr, "optimise-layer {} on {}: {} from {:g} to {:g}, mu_r {:g}-{:g}, seeds {}; runs in {}\n",
                  r.policy, config.name, r.extent.name, r.extent.lower, r.extent.upper, r.friction.lower,
                  r.friction.upper, o.seeds, o.common.out.string());
-    fronts.push_back({r.policy, r.extent.name, campaigns::optimise_layer(runner, r)});
+    fronts.push_back({r.policy, r.extent.name, campaigns::optimise_layer(runs.runner, r)});
   }
   std::vector<campaigns::MeasuredModel> measured;
   for (const auto& m : uncalibrated) {
-    std::vector<campaigns::RunOutputs> runs;
-    for (auto seed : base.seeds) runs.push_back(runner.run(m, seed, calibration::Level::expensive));
-    measured.push_back({m.text(config), campaigns::measure_candidate(runs, fronts.front().result.reference_runs,
+    std::vector<campaigns::RunOutputs> per_seed;
+    for (auto seed : base.seeds) per_seed.push_back(runs.runner.run(m, seed, calibration::Level::expensive));
+    measured.push_back({m.text(config), campaigns::measure_candidate(per_seed, fronts.front().result.reference_runs,
                                                                      base.tolerance)});
   }
-  store.write_index();
+  runs.store.write_index();
 
   std::string families;
   for (const auto& f : o.families) families += (families.empty() ? "" : " --family ") + f;
   const std::string title = fmt::format("mfdem optimise-layer {} --family {}", o.config, families);
   const fs::path markdown = o.common.out / "optimise_layer.md", csv = o.common.out / "optimise_layer.csv";
-  {
-    std::ofstream file(markdown);
-    campaigns::write_optimise_markdown(file, title, base, fronts, measured);
-  }
+  write_report(markdown, o.common.quiet,
+               [&](std::ostream& out) { campaigns::write_optimise_markdown(out, title, base, fronts, measured); });
   campaigns::write_optimise_csv(csv, fronts, measured);
   {
     std::ofstream labels(o.common.out / "optimise_layer.toml");
     fmt::print(labels, "config = \"{}\"\nseeds = {}\ntolerance = {:.17g}\ncontact_quantile = {}\n", config.name,
                base.seeds.size(), base.tolerance, base.contact_quantile ? "true" : "false");
   }
-  if (!o.common.quiet) {
-    campaigns::write_optimise_markdown(std::cout, title, base, fronts, measured);
-    fmt::print("  written: {}, {}\n", markdown.string(), csv.string());
-  }
+  if (!o.common.quiet) fmt::print("  written: {}, {}\n", markdown.string(), csv.string());
   if (o.figures) draw_study_figures("optimise_figures", o.common.out.string(), o.common.quiet);
   return 0;
 }
