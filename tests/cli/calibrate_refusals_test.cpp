@@ -1,23 +1,13 @@
 // `mfdem calibrate` refuses what cannot be calibrated before any run, naming the option and value.
 #include <catch2/catch.hpp>
 
-#include <filesystem>
-#include <string>
-
-#include "tests/support/run_mfdem.hpp"
+#include "tests/support/refusals.hpp"
 #include "tests/support/temp_dir.hpp"
-
-using Catch::Matchers::Contains;
-using mfdem::test::run_mfdem;
 
 TEST_CASE("calibrate refuses empty, ball-less and out-of-bed ranges, reused seeds and bad targets", "[cli][calibrate]") {
   const mfdem::test::TempDir dir;
-  const std::string out = (dir.path() / "cal").string();
-  struct Case {
-    std::vector<std::string> args;
-    std::vector<std::string> expected;
-  };
-  const Case cases[] = {
+  const auto out = dir.path() / "cal";
+  mfdem::test::check_refused_before_any_run("calibrate", "mini", out, {
       {{"--parameters", "mu_r=0.6:0"}, {"--parameters", "mu_r=0.6:0", "empty range"}},
       {{"--parameters", "mu_r=0:0.6,h_fraction=0:0.8"}, {"h_fraction=0:0.8", "leaves no ball"}},
       {{"--parameters", "mu_r=0:0.6,h_fraction=0.3:2"}, {"h_fraction=0.3:2"}},
@@ -29,14 +19,5 @@ TEST_CASE("calibrate refuses empty, ball-less and out-of-bed ranges, reused seed
       {{"--cheap-seeds", "1-3"}, {"--cheap-seeds 1-3", "fewer than the 3"}},
       {{"--cheap-cost", "0.3"}, {"--cheap-cost 0.3", "no cheap level"}},
       {{"--initial-cheap", "8"}, {"--initial-cheap 8", "no cheap level"}},
-  };
-  for (const auto& c : cases) {
-    std::vector<std::string> args = {"calibrate", "mini", "--out", out};
-    args.insert(args.end(), c.args.begin(), c.args.end());
-    const auto result = run_mfdem(args);
-    CAPTURE(c.args, result.err);
-    CHECK(result.status == 2);
-    for (const auto& e : c.expected) CHECK_THAT(result.err, Contains(e));
-    CHECK_FALSE(std::filesystem::exists(out + "/runs"));  // nothing run, no store made
-  }
+  });
 }
