@@ -102,13 +102,16 @@ std::vector<std::string> run_keys(const CompareRequest& request) {
 }
 
 void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
-                 const std::function<void()>& after_run, std::size_t first_seed) {
-  const std::size_t n = request.seeds.size();
-  for (std::size_t k = 0; k < n; ++k)
-    for (const Model& model : request.models) {
-      ensure_push_run(store, request.config, model, request.seeds[(first_seed + k) % n], context);
+                 const std::function<void()>& after_run, std::size_t first_seed, const RunSlice& slice) {
+  const std::size_t n = request.seeds.size(), models = request.models.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t seed = (first_seed + k) % n;
+    for (std::size_t m = 0; m < models; ++m) {
+      if (!slice.holds(seed * models + m)) continue;  // run_keys order
+      ensure_push_run(store, request.config, request.models[m], request.seeds[seed], context);
       if (after_run) after_run();
     }
+  }
 }
 
 CompareTable compare_table(const runs::RunStore& store, const CompareRequest& request) {

@@ -12,6 +12,7 @@
 
 #include "studies/campaigns/paired_statistics.hpp"
 #include "studies/campaigns/push_runs.hpp"
+#include "studies/campaigns/run_slice.hpp"
 
 namespace mfdem::campaigns {
 
@@ -33,9 +34,10 @@ std::vector<std::string> run_keys(const CompareRequest& request);
 // Runs every (seed, model) of the request not yet in the store, seed by seed (each seed's
 // deposition made once, its models then), starting at the seed `first_seed` places into the list
 // (so that the processes of one study start on different seeds); `after_run()` is called after
-// each (a progress line counts the store, which other processes fill too).
+// each (a progress line counts the store, which other processes fill too). With a slice, only the
+// runs of the slice (their places in run_keys) are made.
 void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
-                 const std::function<void()>& after_run = {}, std::size_t first_seed = 0);
+                 const std::function<void()>& after_run = {}, std::size_t first_seed = 0, const RunSlice& slice = {});
 
 // One output of one model against the reference.
 struct OutputRow {

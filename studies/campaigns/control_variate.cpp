@@ -28,12 +28,12 @@ double control_variate_variance_ratio(double correlation, double cost_ratio, dou
 ControlVariateEstimate control_variate_estimate(const std::vector<double>& reference,
                                                 const std::vector<double>& cheap_paired,
                                                 const std::vector<double>& cheap_extra, double reference_cost,
-                                                double cheap_cost) {
+                                                double cheap_cost, double plain_cost) {
   if (reference.size() != cheap_paired.size())
     throw std::invalid_argument("control_variate_estimate: the reference and cheap runs are not paired");
   if (reference.size() < 3)
     throw std::invalid_argument("control_variate_estimate: fewer than 3 paired runs (alpha and rho need them)");
-  if (!(reference_cost > 0.0) || !(cheap_cost > 0.0))
+  if (!(reference_cost > 0.0) || !(cheap_cost > 0.0) || plain_cost < 0.0)
     throw std::invalid_argument("control_variate_estimate: a run's cost must be > 0");
   ControlVariateEstimate e;
   e.n = reference.size();
@@ -77,6 +77,10 @@ ControlVariateEstimate control_variate_estimate(const std::vector<double>& refer
   if (!std::isfinite(e.optimal_ratio)) e.variance_ratio_optimal = 0.0;
   e.variance_ratio_as_run =
       control_variate_variance_ratio(e.correlation, e.cost_ratio, double(e.m) / double(e.n));
+  if (plain_cost > 0.0) {
+    e.variance_ratio_optimal *= reference_cost / plain_cost;
+    e.variance_ratio_as_run *= reference_cost / plain_cost;
+  }
   return e;
 }
 

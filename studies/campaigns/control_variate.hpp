@@ -47,11 +47,14 @@ struct ControlVariateEstimate {
 };
 
 // `reference` and `cheap_paired` on the same seeds (n >= 3, in the same order), `cheap_extra` on
-// seeds of their own; costs per run in any one unit (w_hi, w_lo > 0). Throws
-// std::invalid_argument for unpaired lists, n < 3, a cheap output without spread, or costs <= 0.
+// seeds of their own; costs per run in any one unit (w_hi, w_lo > 0). `plain_cost` is what one
+// sample of plain sampling costs (0: w_hi); it differs when a seed's own cost (its packing) is
+// counted with the cheap runs, which every seed has: the variance ratios then scale by
+// w_hi / plain_cost. Throws std::invalid_argument for unpaired lists, n < 3, a cheap output
+// without spread, or costs <= 0.
 ControlVariateEstimate control_variate_estimate(const std::vector<double>& reference,
                                                 const std::vector<double>& cheap_paired,
                                                 const std::vector<double>& cheap_extra, double reference_cost,
-                                                double cheap_cost);
+                                                double cheap_cost, double plain_cost = 0.0);
 
 }  // namespace mfdem::campaigns

@@ -15,6 +15,7 @@
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/campaign_runs.hpp"
+#include "studies/cli/campaign_share.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/config/config_error.hpp"
 
@@ -196,6 +197,7 @@ void add_calibrate_command(CLI::App& app, Action& action) {
   command->callback([o, &action] {
     action = [o] {
       apply_thread_count(o->common);
+      require_one_process("calibrate");
       return calibrate(*o);
     };
   });

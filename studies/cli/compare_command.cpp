@@ -17,6 +17,7 @@
 
 #include "studies/campaigns/compare.hpp"
 #include "studies/campaigns/compare_figures.hpp"
+#include "studies/cli/campaign_share.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -45,6 +46,8 @@ struct CompareOptions {
   bool retry_failed = false;
   bool figures = true;
   int worker = 0;          // > 0: the k-th process of --jobs: runs, prints no table
+  bool jobs_given = false;
+  std::string slice;       // K/N: this process's share (a job array's task)
 };
 
 campaigns::CompareRequest make_request(const CompareOptions& o) {
@@ -97,8 +100,11 @@ std::vector<pid_t> spawn_workers(const CompareOptions& o, int count) {
   return workers;
 }
 
-int compare(const CompareOptions& o) {
+int compare(CompareOptions o) {
   const campaigns::CompareRequest request = make_request(o);  // every input checked before any work
+  const CampaignShare share = campaign_share(o.slice, o.jobs_given ? o.jobs : 1);
+  if (!share.slice.whole()) o.jobs = 1;
+  if (!share.writes_tables()) o.common.quiet = true;
   runs::RunStore store(o.common.out);
   const int total = static_cast<int>(request.seeds.size() * request.models.size());
   campaigns::RunContext context;
@@ -138,8 +144,16 @@ int compare(const CompareOptions& o) {
     for (pid_t w : workers) waitpid(w, nullptr, 0);
   }
   // This process then (or alone) runs whatever is left: a worker's run that failed to start.
-  campaigns::run_compare(store, request, context, [&] { report(done_in_store()); });
+  campaigns::run_compare(store, request, context, [&] { report(done_in_store()); }, 0, share.slice);
   progress.finish();
+  if (share.mpi) wait_for_all_ranks();
+  if (!share.writes_tables()) return 0;
+  if (!share.slice.whole() && !share.mpi && done_in_store() < total) {
+    fmt::print(std::cerr, "compare: slice {}/{} done; {} runs of other slices are still missing: the slice that "
+                          "finishes last writes the table (or run the command again without --slice)\n",
+               share.slice.index, share.slice.count, total - done_in_store());
+    return 0;
+  }
   store.write_index();
   const campaigns::CompareTable table = campaigns::compare_table(store, request);
   const fs::path markdown = o.common.out / "compare.md", csv = o.common.out / "compare.csv";
@@ -180,7 +194,7 @@ void add_compare_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   command->add_option("--seeds", o->seeds, "Seeds: 1-5, 1,3,7 or 2-4,9")->capture_default_str();
   command->add_option("--reference", o->reference, "The model the others are compared with (default: the first)");
-  command->add_option("--jobs", o->jobs, "Runs computed at once, each a process of --threads threads")
+  CLI::Option* jobs = command->add_option("--jobs", o->jobs, "Runs computed at once, each a process of --threads threads")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   command->add_option("--tolerance", o->tolerance, "The verdict's tolerance on both outputs, %")
@@ -188,6 +202,9 @@ void add_compare_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   command->add_flag("--retry-failed", o->retry_failed, "Compute the runs recorded as failed again");
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no figures.h5, no PNG/SVG)");
+  command->add_option("--slice", o->slice,
+                      "Compute only this process's share K/N of the runs (a cluster job array's task K of N, from 0); "
+                      "the last slice to finish writes the table. Under mpirun the ranks share the runs themselves");
   command->add_option("--worker", o->worker)->group("");  // a process of --jobs
   add_common_options(*command, o->common);
   command->footer(
@@ -196,11 +213,12 @@ void add_compare_command(CLI::App& app, Action& action) {
       "packing.h5, run.toml); the same command again computes only what is missing. Writes\n"
       "OUT/compare.md, OUT/compare.csv and OUT/index.csv, and the figures (OUT/figures/*.png and .svg,\n"
       "drawn from OUT/figures.h5 by studies/python/mfdem/compare_figures.py; docs/compare.md).");
-  command->callback([o, &action] {
-    action = [o] {
+  command->callback([o, jobs, &action] {
+    action = [o, jobs] {
       if (o->common.seed_given)
         throw config::ConfigError(fmt::format("--seed {}: compare runs the seeds of --seeds", o->common.seed));
       apply_thread_count(o->common);
+      o->jobs_given = jobs->count() > 0;
       return compare(*o);
     };
   });

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "studies/cli/app.hpp"
+#include "studies/cli/process_ranks.hpp"
 
 int main(int argc, char** argv) {
   // OpenMP threads that spin while they wait starve when anything else runs on the machine (two
@@ -19,5 +20,8 @@ int main(int argc, char** argv) {
   // mfdem checks every HDF5 call and says what failed in its own words; HDF5's stack dumps would
   // bury that message.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  return mfdem::cli::run_cli(argc, argv, std::cout, std::cerr);
+  mfdem::cli::start_ranks(&argc, &argv);  // the MPI build under mpirun; nothing otherwise
+  const int status = mfdem::cli::run_cli(argc, argv, std::cout, std::cerr);
+  mfdem::cli::finish_ranks();
+  return status;
 }

@@ -14,6 +14,7 @@
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/campaign_runs.hpp"
+#include "studies/cli/campaign_share.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/config/config_error.hpp"
 
@@ -162,6 +163,7 @@ void add_optimise_layer_command(CLI::App& app, Action& action) {
   command->callback([o, &action] {
     action = [o] {
       apply_thread_count(o->common);
+      require_one_process("optimise-layer");
       return optimise(*o);
     };
   });

@@ -20,5 +20,6 @@ void add_compare_command(CLI::App& app, Action& action);
 void add_plot_command(CLI::App& app, Action& action);
 void add_calibrate_command(CLI::App& app, Action& action);
 void add_optimise_layer_command(CLI::App& app, Action& action);
+void add_stats_command(CLI::App& app, Action& action);
 
 }  // namespace mfdem::cli

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "studies/runs/run_store.hpp"
-#include "tests/railway/tiny_bed.hpp"
+#include "tests/campaigns/micro_compare.hpp"
 #include "tests/support/run_mfdem.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -24,37 +24,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string micro_bed() {
-  std::string text = mfdem::test::kTinyBed;
-  const auto swap = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
-  swap("representation = \"ball\"", "representation = \"clump\"");
-  swap("section_length = 0.20", "section_length = 0.12");
-  swap("distance = 1e-3", "distance = 3e-4");
-  return text;
-}
-
-std::string text_of(const fs::path& file) {
-  std::stringstream s;
-  s << std::ifstream(file).rdbuf();
-  return s.str();
-}
-
-// compare.csv without the wall-time columns (8-11: preparation, push, the two speedups; 36-37:
-// element-steps per second and the relative cost per element-step), which differ from run to
-// run; every other number is the simulation's and must repeat bitwise.
-std::string without_wall_times(const std::string& csv) {
-  std::stringstream in(csv), out;
-  for (std::string line; std::getline(in, line);) {
-    std::stringstream fields(line);
-    int column = 0;
-    for (std::string field; std::getline(fields, field, ',');) {
-      if ((column < 8 || column > 11) && column < 36) out << field << ',';
-      ++column;
-    }
-    out << '\n';
-  }
-  return out.str();
-}
+using mfdem::test::micro_bed;
+using mfdem::test::text_of;
+using mfdem::test::without_wall_times;
 
 std::vector<std::string> csv_fields(const std::string& line) {
   std::vector<std::string> fields;

@@ -95,6 +95,10 @@ TEST_CASE("the control variate's split and verdict follow the measured correlati
   CHECK(none.correlation == Approx(0.0).margin(1e-14));
   CHECK(none.variance_ratio_optimal == Approx(1.0 + 1.0 / 2.75).epsilon(1e-14));
   CHECK_FALSE(none.pays());
+  // A seed's own cost (its packing) counted with the cheap runs: plain sampling then costs
+  // w_hi + that, and the ratios shrink by w_hi / plain_cost (here 2.75 / 3.75).
+  const ControlVariateEstimate seeded = control_variate_estimate({1, 2, 1, 2}, {5, 5, 7, 7}, {}, 2.75, 1.0, 3.75);
+  CHECK(seeded.variance_ratio_optimal == Approx((1.0 + 1.0 / 2.75) * 2.75 / 3.75).epsilon(1e-14));
   CHECK_THROWS_AS(control_variate_estimate({1, 2}, {1, 2}, {}, 1.0, 1.0), std::invalid_argument);
   CHECK_THROWS_AS(control_variate_estimate({1, 2, 3}, {1, 2}, {}, 1.0, 1.0), std::invalid_argument);
   CHECK_THROWS_AS(control_variate_estimate({1, 2, 3}, {4, 4, 4}, {}, 1.0, 1.0), std::invalid_argument);

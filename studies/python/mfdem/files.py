@@ -118,3 +118,13 @@ def read_calibration(out) -> dict:
             data[name] = _group(f[name])
     data["attrs"]["parameter_names"] = data["attrs"]["parameter_names"].split(",")
     return data
+
+
+def read_stats(out) -> dict:
+    """OUT/stats.h5 of `mfdem stats` (layout in studies/campaigns/stats.hpp): labels, outputs, curve."""
+    path = _in_folder(out, "stats.h5")
+    with h5py.File(path, "r") as f:
+        labels = _attrs(f)
+        outputs = [{**_attrs(f["outputs"][k]), **_group(f["outputs"][k])} for k in sorted(f["outputs"])]
+        curve = _group(f["curve"])
+    return {"labels": labels, "outputs": outputs, "curve": curve}
