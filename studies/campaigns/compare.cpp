@@ -97,7 +97,8 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::strin
 std::vector<std::string> run_keys(const CompareRequest& request) {
   std::vector<std::string> keys;
   for (std::uint64_t seed : request.seeds)
-    for (const Model& model : request.models) keys.push_back(run_key(request.config, model, seed));
+    for (std::size_t m = 0; m < request.models.size(); ++m)
+      keys.push_back(run_key(request.config_of(m), request.models[m], seed));
   return keys;
 }
 
@@ -108,7 +109,7 @@ void run_compare(runs::RunStore& store, const CompareRequest& request, const Run
     const std::size_t seed = (first_seed + k) % n;
     for (std::size_t m = 0; m < models; ++m) {
       if (!slice.holds(seed * models + m)) continue;  // run_keys order
-      ensure_push_run(store, request.config, request.models[m], request.seeds[seed], context);
+      ensure_push_run(store, request.config_of(m), request.models[m], request.seeds[seed], context);
       if (after_run) after_run();
     }
   }
@@ -128,7 +129,7 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
   std::vector<double> deposition;
   for (std::size_t m = 0; m < n_models; ++m)
     for (std::size_t s = 0; s < n_seeds; ++s) {
-      records[m][s] = store.find(run_key(request.config, request.models[m], request.seeds[s]));
+      records[m][s] = store.find(run_key(request.config_of(m), request.models[m], request.seeds[s]));
       if (records[m][s]) revisions.insert(records[m][s]->revision);
     }
   const auto values = [&](std::size_t m, const char* name) {
@@ -153,14 +154,14 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
   // The reference's curves, read once.
   std::vector<std::optional<railway::ForceCurve>> reference_curves(n_seeds);
   for (std::size_t s = 0; s < n_seeds; ++s)
-    if (records[ref][s] && records[ref][s]->finished())
+    if (records[ref][s] && records[ref][s]->finished() && fs::exists(store.run_folder(records[ref][s]->key) / "push.h5"))
       reference_curves[s] = railway::read_force_curve(store.run_folder(records[ref][s]->key) / "push.h5");
 
   const double ref_push = finite_mean(values(ref, number::kPushWall));
   const double ref_total = ref_push + finite_mean(values(ref, number::kPreparationWall));
   for (std::size_t m = 0; m < n_models; ++m) {
     ModelRow row;
-    row.model = request.models[m].text(request.config);
+    row.model = request.label_of(m);
     row.reference = m == ref;
     for (std::size_t s = 0; s < n_seeds; ++s) {
       if (!records[m][s]) continue;
@@ -199,7 +200,9 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
         curve_differences.push_back(0.0);
         continue;
       }
-      const railway::ForceCurve c = railway::read_force_curve(store.run_folder(records[m][s]->key) / "push.h5");
+      const fs::path push = store.run_folder(records[m][s]->key) / "push.h5";
+      if (!fs::exists(push)) continue;  // a record without its curve (a store copied without the files)
+      const railway::ForceCurve c = railway::read_force_curve(push);
       curve_differences.push_back(
           normalised_rms_difference(c.u, c.force, reference_curves[s]->u, reference_curves[s]->force));
     }

@@ -22,6 +22,14 @@ struct CompareRequest {
   std::size_t reference = 0;            // index into models
   std::vector<std::uint64_t> seeds;
   double tolerance = 0.05;              // of the verdict, relative
+  // Per model, a config of its own (a numerical setting in `mfdem trade`) and the name its row
+  // shows; empty: every model runs on `config` and is named by Model::text.
+  std::vector<railway::PushStudyConfig> model_configs;
+  std::vector<std::string> model_labels;
+  const railway::PushStudyConfig& config_of(std::size_t m) const {
+    return model_configs.empty() ? config : model_configs[m];
+  }
+  std::string label_of(std::size_t m) const { return model_labels.empty() ? models[m].text(config_of(m)) : model_labels[m]; }
 };
 
 // Parses "1-5", "1,3,7" or "2-4,9" (whole numbers >= 0, ranges ascending); throws

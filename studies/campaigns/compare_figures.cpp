@@ -221,7 +221,7 @@ void write_figure_data(const fs::path& path, const FigureLabels& labels, const s
 
 bool write_compare_figure_data(const fs::path& path, const runs::RunStore& store, const CompareRequest& request) {
   const auto finished = [&](std::size_t m, std::uint64_t seed) -> std::optional<fs::path> {
-    const auto record = store.find(run_key(request.config, request.models[m], seed));
+    const auto record = store.find(run_key(request.config_of(m), request.models[m], seed));
     if (!record || !record->finished()) return std::nullopt;
     return store.run_folder(record->key);
   };
@@ -237,7 +237,7 @@ bool write_compare_figure_data(const fs::path& path, const runs::RunStore& store
   std::vector<CurveBand> curves;
   std::vector<RunFiles> section_runs;
   for (std::size_t m : order) {
-    const std::string name = request.models[m].text(request.config);
+    const std::string name = request.label_of(m);
     std::vector<railway::ForceCurve> seed_curves;
     for (std::uint64_t seed : request.seeds)
       if (const auto folder = finished(m, seed)) seed_curves.push_back(railway::read_force_curve(*folder / "push.h5"));

@@ -29,7 +29,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // The deposited bed every model of `seed` starts from.
 fs::path ensure_deposition(runs::RunStore& store, const railway::PushStudyConfig& config, std::uint64_t seed) {
-  const std::string key = fmt::format("deposit-{}-s{}", railway::config_hash(config.text), seed);
+  const std::string key = deposition_key(config, seed);
   return store.ensure_shared(key, [&](const fs::path& work) {
     railway::PushStudyConfig reference = with_model(config, Model{});
     reference.seed = seed;
@@ -50,6 +50,17 @@ double deposition_wall(const fs::path& folder) {
 }
 
 }  // namespace
+
+std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed) {
+  // What determines a deposition: the config without its name and [push] (settings of the push
+  // alone, which `mfdem trade` varies, share the seed's deposition).
+  toml::table table = toml::parse(config.text);
+  table.erase("name");
+  table.erase("push");
+  std::ostringstream text;
+  text << table;
+  return fmt::format("deposit-{}-s{}", railway::config_hash(text.str()), seed);
+}
 
 std::string Model::text(const railway::PushStudyConfig& config) const {
   const std::string policy_text = fidelity::parse_policy_spec(policy).text();

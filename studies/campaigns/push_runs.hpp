@@ -42,6 +42,10 @@ railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, cons
 // the run (the config's text, the model, the seed).
 std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed);
 
+// The store's key of the deposited bed a run of `config` on `seed` starts from (shared/KEY): a
+// hash of the config without its name and [push], so settings of the push alone share it.
+std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed);
+
 struct RunContext {
   std::string revision;  // of the code
   bool quiet = true;     // the runs' own tables and progress lines

@@ -75,6 +75,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     add_calibrate_command(app, action);
     add_optimise_layer_command(app, action);
     add_stats_command(app, action);
+    add_trade_command(app, action);
     if (auto message = unknown_command(app, argc, argv)) return usage_error(err, *message);
     try {
       app.parse(argc, argv);

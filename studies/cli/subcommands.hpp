@@ -21,5 +21,6 @@ void add_plot_command(CLI::App& app, Action& action);
 void add_calibrate_command(CLI::App& app, Action& action);
 void add_optimise_layer_command(CLI::App& app, Action& action);
 void add_stats_command(CLI::App& app, Action& action);
+void add_trade_command(CLI::App& app, Action& action);
 
 }  // namespace mfdem::cli

@@ -1,0 +1,132 @@
+// `mfdem trade`: what the numerical knobs buy and where stability ends (studies/campaigns/trade.hpp).
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "studies/campaigns/trade.hpp"
+#include "studies/cli/campaign_runs.hpp"
+#include "studies/cli/campaign_share.hpp"
+#include "studies/cli/common_options.hpp"
+#include "studies/cli/python_figures.hpp"
+#include "studies/cli/subcommands.hpp"
+#include "studies/cli/version.hpp"
+#include "studies/config/config_error.hpp"
+#include "studies/scene/progress.hpp"
+
+namespace mfdem::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TradeOptions {
+  CommonOptions common;
+  std::string config;
+  std::string model = "all-clump";
+  std::vector<std::string> knobs;
+  std::string seeds = "1-3";
+  double tolerance = 5.0;  // %
+  std::string slice;
+  bool figures = true;
+};
+
+int trade(TradeOptions o) {
+  // Every input checked before any work: the knobs, and each setting's config (a refused one is
+  // the knob's edge, reported; a refused reference stops here).
+  campaigns::TradeRequest request;
+  request.config = railway::load_push_config(o.config);
+  request.model = campaigns::parse_model(o.model, "--model");
+  request.seeds = campaigns::parse_seeds(o.seeds, "--seeds");
+  request.tolerance = o.tolerance / 100.0;
+  for (const auto& k : o.knobs) {
+    auto knob = campaigns::parse_knob(k, "--knob");
+    for (const auto& earlier : request.knobs)
+      if (earlier.spec == knob.spec) throw config::ConfigError(fmt::format("--knob {}: the knob is given twice", k));
+    request.knobs.push_back(std::move(knob));
+  }
+  const campaigns::TradePlan plan = campaigns::plan_trade(request);
+  const CampaignShare share = campaign_share(o.slice, 1);
+  if (!share.writes_tables()) o.common.quiet = true;
+
+  runs::RunStore store(o.common.out);
+  if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
+    fmt::print(std::cerr, "cleared {} runs in progress left by stopped processes\n", cleared);
+  campaigns::RunContext context;
+  context.revision = git_revision();
+  const std::size_t total = plan.compare.models.size() * request.seeds.size();
+  if (!o.common.quiet) {
+    fmt::print(std::cerr, "trade: {} on {}, {} settings x {} seeds = {} runs; runs in {}\n", request.model.text(request.config),
+               request.config.name, plan.compare.models.size(), request.seeds.size(), total, o.common.out.string());
+    for (const auto& s : plan.settings)
+      if (!s.refused.empty()) fmt::print(std::cerr, "  {} is refused before it runs: {}\n", s.label, s.refused);
+  }
+  scene::Progress progress("trade", double(total), o.common.quiet);
+  std::size_t done = 0;
+  campaigns::run_compare(store, plan.compare, context,
+                         [&] { progress.update(double(++done), fmt::format("{} runs made or found", done)); }, 0,
+                         share.slice);
+  progress.finish();
+  if (share.mpi) wait_for_all_ranks();
+  if (!share.writes_tables()) return 0;
+  const auto keys = campaigns::run_keys(plan.compare);
+  const auto missing = std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return !store.has(k); });
+  if (missing > 0) {
+    fmt::print(std::cerr, "trade: {} runs of other slices are still missing: the slice that finishes last writes the "
+                          "table (or run the command again without --slice)\n", missing);
+    return 0;
+  }
+  store.write_index();
+  const campaigns::TradeTable table = campaigns::trade_table(store, request, plan);
+  const fs::path markdown = o.common.out / "trade.md", csv = o.common.out / "trade.csv";
+  write_report(markdown, true, [&](std::ostream& out) { campaigns::write_trade_markdown(out, table); });
+  campaigns::write_trade_csv(csv, table);
+  if (!o.common.quiet) {
+    campaigns::print_trade_table(std::cout, table);
+    fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), (o.common.out / "index.csv").string());
+  }
+  if (o.figures) draw_study_figures("trade_figures", o.common.out.string(), o.common.quiet);
+  return 0;
+}
+
+}  // namespace
+
+void add_trade_command(CLI::App& app, Action& action) {
+  auto o = std::make_shared<TradeOptions>();
+  o->common.out = "out/trade";
+  o->common.threads = 0;
+  CLI::App* command =
+      app.add_subcommand("trade", "What the numerical knobs buy (speed against error) and where each stops being safe");
+  command->add_option("config", o->config, "A preset (mini, study, standard, paper) or a study config file")->required();
+  command->add_option("--knob", o->knobs,
+                      "A knob and its values, NAME=V1,V2,...: time_step_safety, velocity (m/s), push_damping, "
+                      "stiffness_scaling; give --knob once per knob")
+      ->required();
+  command->add_option("--model", o->model, "The model every setting runs")->capture_default_str();
+  command->add_option("--seeds", o->seeds, "Seeds: 1-3, 1,3,7 or 2-4,9")->capture_default_str();
+  command->add_option("--tolerance", o->tolerance, "The verdict's tolerance on both outputs, %")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  command->add_option("--slice", o->slice,
+                      "Compute only this process's share K/N of the runs (a job array's task); under mpirun the ranks "
+                      "share them");
+  command->add_flag("!--no-figures", o->figures, "Write the tables only (no PNG/SVG)");
+  add_common_options(*command, o->common);
+  command->footer(
+      "The reference setting is every knob at its accurate end (the smallest step, the slowest push, no\n"
+      "damping, full stiffness); each other setting changes one knob. Runs are paired by seed and kept in the\n"
+      "run store (OUT/runs/KEY), so the same command again recomputes nothing. A setting the config refuses,\n"
+      "or a run a guard stops, marks the knob's stability edge. Writes OUT/trade.md, OUT/trade.csv and\n"
+      "OUT/figures/trade.png/.svg (docs/trade.md).");
+  command->callback([o, &action] {
+    action = [o] {
+      if (o->common.seed_given)
+        throw config::ConfigError(fmt::format("--seed {}: trade runs the seeds of --seeds", o->common.seed));
+      apply_thread_count(o->common);
+      return trade(*o);
+    };
+  });
+}
+
+}  // namespace mfdem::cli

@@ -1,0 +1,61 @@
+// `mfdem trade` end to end on the micro bed: a knob inside its range runs, one past its edge is
+// refused before any run with the knob named, the table and figure are written, and the same
+// study again recomputes nothing.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <map>
+
+#include "studies/runs/run_store.hpp"
+#include "tests/campaigns/micro_compare.hpp"
+#include "tests/support/refusals.hpp"
+#include "tests/support/run_mfdem.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using Catch::Matchers::Contains;
+using mfdem::test::run_mfdem;
+namespace fs = std::filesystem;
+
+TEST_CASE("trade runs each knob's settings against the reference, refuses those past an edge and recomputes "
+          "nothing when run again", "[campaigns][cli][trade]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("micro.toml", mfdem::test::micro_bed());
+  const std::string out = (dir.path() / "trade").string();
+  const std::vector<std::string> study = {"trade",   config.string(), "--knob", "velocity=0.05,0.1",
+                                          "--knob",  "push_damping=0,1", "--seeds", "1",
+                                          "--threads", "1",           "--out",  out};
+  const auto first = run_mfdem(study);
+  INFO(first.err);
+  REQUIRE(first.status == 0);
+  CHECK_THAT(first.err, Contains("push_damping=1 is refused before it runs"));
+  CHECK_THAT(first.out, Contains("velocity=0.1") && Contains("Stability edges") &&
+                            Contains("push_damping: safe at 0, unsafe at 1"));
+  const std::string csv = mfdem::test::text_of(fs::path(out) / "trade.csv");
+  CHECK_THAT(csv, Contains("velocity,0.1,\"velocity=0.1\",\"ran\""));
+  CHECK_THAT(csv, Contains("\"refused: --knob push_damping=1: push.local_damping = 1"));
+  CHECK(fs::file_size(fs::path(out) / "figures" / "trade.png") > 1000);
+  // Two runs (the reference and velocity 0.1), one deposition: the push's setting shares the seed's bed.
+  mfdem::runs::RunStore store(out);
+  const auto records = store.records();
+  REQUIRE(records.size() == 2);
+  std::size_t depositions = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(out) / "shared")) depositions += entry.is_directory() ? 1 : 0;
+  CHECK(depositions == 1);
+  // Again: every run found, none rewritten, the same table.
+  std::map<std::string, fs::file_time_type> written;
+  for (const auto& r : records) written[r.key] = fs::last_write_time(store.run_folder(r.key) / "run.toml");
+  const auto second = run_mfdem(study);
+  REQUIRE(second.status == 0);
+  for (const auto& r : records) CHECK(fs::last_write_time(store.run_folder(r.key) / "run.toml") == written[r.key]);
+  CHECK(mfdem::test::text_of(fs::path(out) / "trade.csv") == csv);
+}
+
+TEST_CASE("trade refuses unknown knobs, a knob given twice and a refused reference before any run", "[cli][trade]") {
+  const mfdem::test::TempDir dir;
+  mfdem::test::check_refused_before_any_run("trade", "mini", dir.path() / "trade", {
+      {{"--knob", "speed=1,2"}, {"--knob speed=1,2", "unknown knob 'speed'"}},
+      {{"--knob", "velocity=0.1", "--knob", "velocity=0.2"}, {"--knob velocity=0.2", "given twice"}},
+      {{"--knob", "time_step_safety=1.5,2"}, {"the reference setting", "time_step_safety=1.5"}},
+      {{"--knob", "velocity=0.1", "--seeds", "2-1"}, {"--seeds"}},
+  });
+}
