@@ -51,15 +51,29 @@ double deposition_wall(const fs::path& folder) {
 
 }  // namespace
 
-std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed) {
-  // What determines a deposition: the config without its name and [push] (settings of the push
-  // alone, which `mfdem trade` varies, share the seed's deposition).
+namespace {
+
+// What determines a bed: the config without its name and [push] (settings of the push alone,
+// which `mfdem trade` varies, share the seed's deposition and the model's prepared bed).
+std::string bed_text(const railway::PushStudyConfig& config) {
   toml::table table = toml::parse(config.text);
   table.erase("name");
   table.erase("push");
   std::ostringstream text;
   text << table;
-  return fmt::format("deposit-{}-s{}", railway::config_hash(text.str()), seed);
+  return text.str();
+}
+
+}  // namespace
+
+std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed) {
+  return fmt::format("deposit-{}-s{}", railway::config_hash(bed_text(config)), seed);
+}
+
+std::string prepared_bed_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
+  const std::string name = runs::folder_name(model.text(config));
+  return fmt::format("bed-s{}-{}-{}", seed, name.substr(0, 60),
+                     railway::config_hash(bed_text(config) + "\n" + model.text(config)).substr(0, 12));
 }
 
 std::string Model::text(const railway::PushStudyConfig& config) const {
@@ -172,14 +186,25 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
                          {"config_hash", railway::config_hash(config.text)}};
         record.numbers = {{number::kSeed, double(seed)}, {number::kDepositionWall, deposition_wall(deposition)}};
 
+        // The model's prepared bed, shared by the runs that differ only in their push (trade's
+        // velocity and push damping): made once, hard-linked into each run's folder.
         railway::PackRequest pack;
-        pack.out = work;
         pack.quiet = context.quiet;
         pack.deposit_from = deposition / "checkpoint.h5";
         pack.model_origin = "--models " + model.policy;
-        const auto start = std::chrono::steady_clock::now();
-        const railway::PackOutcome packed = railway::pack_bed(c, pack, out);
-        const double preparation_wall = seconds_since(start);
+        const fs::path bed = store.ensure_shared(prepared_bed_key(config, model, seed), [&](const fs::path& bed_work) {
+          pack.out = bed_work;
+          const auto start = std::chrono::steady_clock::now();
+          railway::pack_bed(c, pack, out);
+          std::ofstream(bed_work / "preparation.toml") << fmt::format("seed = {}\nwall_seconds = {:.6g}\n", seed,
+                                                                      seconds_since(start));
+        });
+        const double preparation_wall =
+            toml::parse_file((bed / "preparation.toml").string())["wall_seconds"].value_or(0.0);
+        const fs::path packing = work / "packing.h5";
+        std::error_code linked;
+        fs::create_hard_link(bed / "packing.h5", packing, linked);
+        if (linked) fs::copy_file(bed / "packing.h5", packing);  // another file system: a copy
 
         railway::PushRequest push;
         push.out = work;
@@ -188,7 +213,7 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
         push.revision = context.revision;
         push.model_origin = pack.model_origin;
         const railway::PushOutcome pushed =
-            railway::push_bed(railway::load_packing(*packed.packing), *packed.packing, c, push, out);
+            railway::push_bed(railway::load_packing(packing), packing, c, push, out);
         const railway::PushResult& r = pushed.result;
         record.labels.emplace_back("policy", r.model.policy);
         record.numbers.insert(record.numbers.end(),

@@ -3,9 +3,10 @@
 // calibration) computes or finds the push of a model on a seed's bed.
 //
 // Every model of a seed starts from the same deposited bed, kept in the store
-// (shared/deposit-CONFIGHASH-sSEED/checkpoint.h5, made once by `mfdem pack --stop-after deposit`);
-// a run then prepares the model's own bed from it (the policy converts the deposited clumps,
-// the balls grow into place, the later stages run: bed_preparation.hpp) and pushes the sleeper.
+// (shared/deposit-HASH-sSEED/checkpoint.h5, made once by `mfdem pack --stop-after deposit`);
+// the model's own bed is prepared from it (the policy converts the deposited clumps, the balls
+// grow into place, the later stages run: bed_preparation.hpp; kept as shared/bed-sSEED-MODEL-HASH,
+// so runs that differ only in their push share it) and the sleeper is pushed.
 // So models differ only in fidelity and their differences are paired by seed.
 #include <cstdint>
 #include <filesystem>
@@ -45,6 +46,9 @@ std::string run_key(const railway::PushStudyConfig& config, const Model& model, 
 // The store's key of the deposited bed a run of `config` on `seed` starts from (shared/KEY): a
 // hash of the config without its name and [push], so settings of the push alone share it.
 std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed);
+
+// The key of a model's prepared bed on `seed` (shared/KEY/packing.h5), shared likewise.
+std::string prepared_bed_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed);
 
 struct RunContext {
   std::string revision;  // of the code

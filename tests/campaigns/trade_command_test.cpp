@@ -34,13 +34,19 @@ TEST_CASE("trade runs each knob's settings against the reference, refuses those 
   CHECK_THAT(csv, Contains("velocity,0.1,\"velocity=0.1\",\"ran\""));
   CHECK_THAT(csv, Contains("\"refused: --knob push_damping=1: push.local_damping = 1"));
   CHECK(fs::file_size(fs::path(out) / "figures" / "trade.png") > 1000);
-  // Two runs (the reference and velocity 0.1), one deposition: the push's setting shares the seed's bed.
+  // Two runs (the reference and velocity 0.1), one deposition and one prepared bed: a setting of the
+  // push shares the seed's bed, hard-linked into both runs' folders.
   mfdem::runs::RunStore store(out);
   const auto records = store.records();
   REQUIRE(records.size() == 2);
-  std::size_t depositions = 0;
-  for (const auto& entry : fs::directory_iterator(fs::path(out) / "shared")) depositions += entry.is_directory() ? 1 : 0;
+  std::size_t depositions = 0, beds = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(out) / "shared")) {
+    depositions += entry.path().filename().string().rfind("deposit-", 0) == 0 ? 1 : 0;
+    beds += entry.path().filename().string().rfind("bed-", 0) == 0 ? 1 : 0;
+  }
   CHECK(depositions == 1);
+  CHECK(beds == 1);
+  for (const auto& r : records) CHECK(fs::exists(store.run_folder(r.key) / "packing.h5"));
   // Again: every run found, none rewritten, the same table.
   std::map<std::string, fs::file_time_type> written;
   for (const auto& r : records) written[r.key] = fs::last_write_time(store.run_folder(r.key) / "run.toml");
