@@ -140,8 +140,8 @@ def control_variate(data, out, quiet):
         ax.set_xlabel(f"cheap model: {o['label']} ({unit})")
         ax.set_ylabel(f"model: {o['label']} ({unit})")
         verdict = "pays" if o["variance_ratio_optimal"] < 1 else "does not pay"
-        ax.set_title(f"{o['label']}: variance {o['variance_ratio_optimal']:.2f} x plain sampling at the best split "
-                     f"({verdict})", fontsize=8)
+        ax.set_title(f"{o['label']}\nvariance {o['variance_ratio_optimal']:.2f} x the model's runs alone at equal "
+                     f"cost, best split: {verdict}", fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="best")
     for ax in axes[len(outputs):]:
