@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -53,6 +55,29 @@ std::string verdict_words(const ModelRow& r) {
   if (r.peak_verdict == Verdict::within && r.contact_verdict == Verdict::within) return "within";
   if (r.peak_verdict == Verdict::outside || r.contact_verdict == Verdict::outside) return "outside";
   return "undecided";
+}
+
+// A row's cells after its label: push and total speedup, the three differences, the status.
+std::array<std::string, 6> row_cells(const TradeRow& r, double tolerance) {
+  if (!r.measured) return {"-", "-", "-", "-", "-", r.status};
+  const ModelRow& m = *r.measured;
+  const bool reference = !r.setting.knob;
+  return {speedup_text(m.push_speedup),
+          speedup_text(m.total_speedup),
+          reference ? "0" : percent_interval(m.peak_force.difference),
+          reference ? "0" : percent_interval(m.max_contact_force.difference),
+          reference ? "0" : percent_interval(m.curve_difference),
+          reference || r.status != "ran" ? r.status : fmt::format("ran, {} {:.0f} %", verdict_words(m), 100.0 * tolerance)};
+}
+
+std::string edge_line(const KnobEdge& e, bool accurate_low);
+
+// The edges, one line each after `bullet`.
+void print_edges(std::ostream& out, const TradeTable& t, const char* bullet) {
+  for (const auto& e : t.edges) {
+    const KnobSpec* spec = find_knob(e.knob);
+    fmt::print(out, "{}{}\n", bullet, edge_line(e, spec == nullptr || spec->accurate_low));
+  }
 }
 
 std::string edge_line(const KnobEdge& e, bool accurate_low) {
@@ -256,28 +281,13 @@ void print_trade_table(std::ostream& out, const TradeTable& t) {
   fmt::print(out, "  {:<{}} {:>8} {:>8} {:>15} {:>15} {:>13}  {}\n", "setting", width, "push x", "total x", "d peak %",
              "d max c. %", "F(u) NRMS %", "status");
   for (const auto& r : t.rows) {
-    if (!r.measured) {
-      fmt::print(out, "  {:<{}} {:>8} {:>8} {:>15} {:>15} {:>13}  {}\n", r.setting.label, width, "-", "-", "-", "-", "-",
-                 r.status);
-      continue;
-    }
-    const ModelRow& m = *r.measured;
-    const bool reference = !r.setting.knob;
-    fmt::print(out, "  {:<{}} {:>8} {:>8} {:>15} {:>15} {:>13}  {}\n", r.setting.label.substr(0, width), width,
-               speedup_text(m.push_speedup), speedup_text(m.total_speedup),
-               reference ? "0" : percent_interval(m.peak_force.difference),
-               reference ? "0" : percent_interval(m.max_contact_force.difference),
-               reference ? "0" : percent_interval(m.curve_difference),
-               reference || r.status != "ran" ? r.status : fmt::format("ran, {} {:.0f} %", verdict_words(m), 100.0 * c.tolerance));
+    const auto cells = row_cells(r, c.tolerance);
+    fmt::print(out, "  {:<{}} {:>8} {:>8} {:>15} {:>15} {:>13}  {}\n", r.setting.label.substr(0, width), width, cells[0],
+               cells[1], cells[2], cells[3], cells[4], cells[5]);
   }
   fmt::print(out, "  (differences from the reference setting, paired by seed: mean +- the 95 % Student-t half-width; "
                   "speedups: the reference's wall time over the setting's)\n\nStability edges\n");
-  for (std::size_t k = 0; k < t.edges.size(); ++k) {
-    bool low = true;
-    for (const auto& spec : trade_knobs())
-      if (t.edges[k].knob == spec.name) low = spec.accurate_low;
-    fmt::print(out, "  {}\n", edge_line(t.edges[k], low));
-  }
+  print_edges(out, t, "  ");
   if (c.revisions.size() > 1)
     fmt::print(out, "  note: the runs were computed by {} code revisions ({})\n", c.revisions.size(), fmt::join(c.revisions, ", "));
 }
@@ -288,28 +298,13 @@ void write_trade_markdown(std::ostream& out, const TradeTable& t) {
              fmt::join(c.seeds, ","), t.rows.front().setting.label);
   fmt::print(out, "| setting | push speedup | total speedup | d peak (%) | d max contact (%) | F(u) NRMS (%) | status |\n");
   fmt::print(out, "|---|---|---|---|---|---|---|\n");
-  for (const auto& r : t.rows) {
-    if (!r.measured) {
-      fmt::print(out, "| {} | - | - | - | - | - | {} |\n", r.setting.label, r.status);
-      continue;
-    }
-    const ModelRow& m = *r.measured;
-    const bool reference = !r.setting.knob;
-    fmt::print(out, "| {} | {} | {} | {} | {} | {} | {} |\n", r.setting.label, speedup_text(m.push_speedup),
-               speedup_text(m.total_speedup), reference ? "0" : percent_interval(m.peak_force.difference),
-               reference ? "0" : percent_interval(m.max_contact_force.difference),
-               reference ? "0" : percent_interval(m.curve_difference),
-               reference || r.status != "ran" ? r.status : fmt::format("ran, {} {:.0f} %", verdict_words(m), 100.0 * c.tolerance));
-  }
+  for (const auto& r : t.rows) fmt::print(out, "| {} | {} |\n", r.setting.label, fmt::join(row_cells(r, c.tolerance), " | "));
   fmt::print(out, "\nDifferences from the reference setting, paired by seed: mean +- the half-width of the 95 % "
                   "Student-t interval over the seeds. Speedups: the reference's wall time over the setting's (push; "
                   "preparation from the shared deposition + push).\n\n## Stability edges\n\n");
-  for (std::size_t k = 0; k < t.edges.size(); ++k) {
-    bool low = true;
-    for (const auto& spec : trade_knobs())
-      if (t.edges[k].knob == spec.name) low = spec.accurate_low;
-    fmt::print(out, "- {}\n", edge_line(t.edges[k], low));
-  }
+  print_edges(out, t, "- ");
+  if (c.revisions.size() > 1)
+    fmt::print(out, "\nThe runs were computed by {} code revisions ({}).\n", c.revisions.size(), fmt::join(c.revisions, ", "));
 }
 
 void write_trade_csv(const fs::path& file, const TradeTable& t) {

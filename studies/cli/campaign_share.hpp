@@ -3,9 +3,13 @@
 // under `mpirun` (the MPI build), the `--slice K/N` of a cluster job array's task, or all of them.
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
 #include <string>
 
 #include "studies/campaigns/run_slice.hpp"
+#include "studies/cli/commands.hpp"
 #include "studies/cli/process_ranks.hpp"
 #include "studies/config/config_error.hpp"
 
@@ -37,6 +41,29 @@ inline CampaignShare campaign_share(const std::string& slice_option, int jobs) {
     throw config::ConfigError(fmt::format("--jobs {}: with {} a process computes its share alone (--jobs 1)", jobs,
                                           share.mpi ? "mpirun" : "--slice"));
   return share;
+}
+
+// --slice K/N on a campaign command.
+inline void add_slice_option(CLI::App& command, std::string& slice) {
+  command.add_option("--slice", slice,
+                     "Compute only this process's share K/N of the runs (a cluster job array's task K of N, from 0); "
+                     "the last slice to finish writes the table. Under mpirun the ranks share the runs themselves");
+}
+
+// After a --slice process's runs: true (and says so) while other slices' runs are still missing,
+// so that only the slice that finishes last writes the tables.
+inline bool other_slices_pending(const CampaignShare& share, std::size_t missing, const char* command) {
+  if (share.slice.whole() || share.mpi || missing == 0) return false;
+  fmt::print(stderr, "{}: slice {}/{} done; {} runs of other slices are still missing: the slice that finishes last "
+                     "writes the table (or run the command again without --slice)\n",
+             command, share.slice.index, share.slice.count, missing);
+  return true;
+}
+
+// Campaign commands run the seeds of --seeds: a single --seed is refused.
+inline void refuse_single_seed(const CommonOptions& common, const char* command) {
+  if (common.seed_given)
+    throw config::ConfigError(fmt::format("--seed {}: {} runs the seeds of --seeds", common.seed, command));
 }
 
 // calibrate and optimise-layer choose each run from the ones before: one process, not mpirun -np N.

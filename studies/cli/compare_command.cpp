@@ -148,12 +148,7 @@ int compare(CompareOptions o) {
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables()) return 0;
-  if (!share.slice.whole() && !share.mpi && done_in_store() < total) {
-    fmt::print(std::cerr, "compare: slice {}/{} done; {} runs of other slices are still missing: the slice that "
-                          "finishes last writes the table (or run the command again without --slice)\n",
-               share.slice.index, share.slice.count, total - done_in_store());
-    return 0;
-  }
+  if (other_slices_pending(share, static_cast<std::size_t>(total - done_in_store()), "compare")) return 0;
   store.write_index();
   const campaigns::CompareTable table = campaigns::compare_table(store, request);
   const fs::path markdown = o.common.out / "compare.md", csv = o.common.out / "compare.csv";
@@ -202,9 +197,7 @@ void add_compare_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   command->add_flag("--retry-failed", o->retry_failed, "Compute the runs recorded as failed again");
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no figures.h5, no PNG/SVG)");
-  command->add_option("--slice", o->slice,
-                      "Compute only this process's share K/N of the runs (a cluster job array's task K of N, from 0); "
-                      "the last slice to finish writes the table. Under mpirun the ranks share the runs themselves");
+  add_slice_option(*command, o->slice);
   command->add_option("--worker", o->worker)->group("");  // a process of --jobs
   add_common_options(*command, o->common);
   command->footer(
@@ -215,8 +208,7 @@ void add_compare_command(CLI::App& app, Action& action) {
       "drawn from OUT/figures.h5 by studies/python/mfdem/compare_figures.py; docs/compare.md).");
   command->callback([o, jobs, &action] {
     action = [o, jobs] {
-      if (o->common.seed_given)
-        throw config::ConfigError(fmt::format("--seed {}: compare runs the seeds of --seeds", o->common.seed));
+      refuse_single_seed(o->common, "compare");
       apply_thread_count(o->common);
       o->jobs_given = jobs->count() > 0;
       return compare(*o);

@@ -86,18 +86,11 @@ int stats(StatsOptions o) {
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables()) return 0;
-  if (!share.slice.whole() && !share.mpi) {
-    std::size_t missing = 0;
-    for (auto seed : request.seeds) missing += store.has(campaigns::run_key(request.config, request.model, seed)) ? 0 : 1;
-    for (auto seed : request.control_seeds)
-      missing += store.has(campaigns::run_key(request.config, *request.control, seed)) ? 0 : 1;
-    if (missing > 0) {
-      fmt::print(std::cerr, "stats: slice {}/{} done; {} runs of other slices are still missing: the slice that "
-                            "finishes last writes the table (or run the command again without --slice)\n",
-                 share.slice.index, share.slice.count, missing);
-      return 0;
-    }
-  }
+  std::size_t missing = 0;
+  for (auto seed : request.seeds) missing += store.has(campaigns::run_key(request.config, request.model, seed)) ? 0 : 1;
+  for (auto seed : request.control_seeds)
+    missing += store.has(campaigns::run_key(request.config, *request.control, seed)) ? 0 : 1;
+  if (other_slices_pending(share, missing, "stats")) return 0;
   store.write_index();
   const campaigns::StatsTable table = campaigns::stats_table(store, request, seeds);
   const fs::path markdown = o.common.out / "stats.md", csv = o.common.out / "stats.csv";
@@ -150,9 +143,7 @@ void add_stats_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(std::size_t{100}, std::size_t{10000000}))
       ->capture_default_str();
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no stats.h5, no PNG/SVG)");
-  command->add_option("--slice", o->slice,
-                      "Compute only this process's share K/N of the runs (a cluster job array's task K of N, from 0); "
-                      "the last slice to finish writes the table. Under mpirun the ranks share the runs themselves");
+  add_slice_option(*command, o->slice);
   add_common_options(*command, o->common);
   command->footer(
       "Each seed is its own packing (deposition); every run is a folder OUT/runs/KEY of the run store that\n"
@@ -161,8 +152,7 @@ void add_stats_command(CLI::App& app, Action& action) {
       "OUT/stats.h5 by studies/python/mfdem/stats_figures.py; docs/stats.md).");
   command->callback([o, &action] {
     action = [o] {
-      if (o->common.seed_given)
-        throw config::ConfigError(fmt::format("--seed {}: stats runs the seeds of --seeds", o->common.seed));
+      refuse_single_seed(o->common, "stats");
       apply_thread_count(o->common);
       return stats(*o);
     };

@@ -72,11 +72,7 @@ int trade(TradeOptions o) {
   if (!share.writes_tables()) return 0;
   const auto keys = campaigns::run_keys(plan.compare);
   const auto missing = std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return !store.has(k); });
-  if (missing > 0) {
-    fmt::print(std::cerr, "trade: {} runs of other slices are still missing: the slice that finishes last writes the "
-                          "table (or run the command again without --slice)\n", missing);
-    return 0;
-  }
+  if (other_slices_pending(share, static_cast<std::size_t>(missing), "trade")) return 0;
   store.write_index();
   const campaigns::TradeTable table = campaigns::trade_table(store, request, plan);
   const fs::path markdown = o.common.out / "trade.md", csv = o.common.out / "trade.csv";
@@ -108,9 +104,7 @@ void add_trade_command(CLI::App& app, Action& action) {
   command->add_option("--tolerance", o->tolerance, "The verdict's tolerance on both outputs, %")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  command->add_option("--slice", o->slice,
-                      "Compute only this process's share K/N of the runs (a job array's task); under mpirun the ranks "
-                      "share them");
+  add_slice_option(*command, o->slice);
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no PNG/SVG)");
   add_common_options(*command, o->common);
   command->footer(
@@ -121,8 +115,7 @@ void add_trade_command(CLI::App& app, Action& action) {
       "OUT/figures/trade.png/.svg (docs/trade.md).");
   command->callback([o, &action] {
     action = [o] {
-      if (o->common.seed_given)
-        throw config::ConfigError(fmt::format("--seed {}: trade runs the seeds of --seeds", o->common.seed));
+      refuse_single_seed(o->common, "trade");
       apply_thread_count(o->common);
       return trade(*o);
     };
