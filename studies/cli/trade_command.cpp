@@ -30,6 +30,7 @@ struct TradeOptions {
   double tolerance = 5.0;  // %
   std::string slice;
   bool figures = true;
+  fs::path compare_study;  // an `mfdem compare` folder whose models the figure sets beside the knobs
 };
 
 int trade(TradeOptions o) {
@@ -82,7 +83,12 @@ int trade(TradeOptions o) {
     campaigns::print_trade_table(std::cout, table);
     fmt::print("  written: {}, {}, {}\n", markdown.string(), csv.string(), (o.common.out / "index.csv").string());
   }
-  if (o.figures) draw_study_figures("trade_figures", o.common.out.string(), o.common.quiet);
+  if (o.figures) {
+    std::vector<std::string> args = {o.common.out.string()};
+    if (!o.compare_study.empty()) args.insert(args.end(), {"--compare", o.compare_study.string()});
+    if (o.common.quiet) args.emplace_back("--quiet");
+    draw_figures("trade_figures", args);
+  }
   return 0;
 }
 
@@ -105,6 +111,9 @@ void add_trade_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   add_slice_option(*command, o->slice);
+  command->add_option("--compare-study", o->compare_study,
+                      "The folder of an `mfdem compare` study of the same config: its models drawn on the same axes")
+      ->check(CLI::ExistingDirectory);
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no PNG/SVG)");
   add_common_options(*command, o->common);
   command->footer(
