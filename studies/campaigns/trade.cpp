@@ -140,6 +140,9 @@ KnobValues parse_knob(const std::string& text, const std::string& option) {
 }
 
 railway::PushStudyConfig with_knob(const railway::PushStudyConfig& config, const KnobSpec& knob, double value) {
+  // The config's own value: the config as it is, so that its runs (a compare study's reference in
+  // the same store) keep their keys and are found.
+  if (knob_value(config, knob) == value) return config;
   toml::table t = toml::parse(config.text);
   const std::string name = knob.name;
   if (name == "time_step_safety") t.insert_or_assign("time_step_safety", value);

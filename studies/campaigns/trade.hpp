@@ -43,7 +43,7 @@ KnobValues parse_knob(const std::string& text, const std::string& option);
 
 // The config with one knob set: its TOML text edited and parsed again, so that every check of a
 // config applies (a value out of range throws config::ConfigError naming the key) and the run's key
-// sees the change.
+// sees the change. The config's own value returns the config unchanged (its runs keep their keys).
 railway::PushStudyConfig with_knob(const railway::PushStudyConfig& config, const KnobSpec& knob, double value);
 // The knob's value in a config.
 double knob_value(const railway::PushStudyConfig& config, const KnobSpec& knob);

@@ -50,6 +50,9 @@ TEST_CASE("a knob sets the config's own key, and the run's key and deposition fo
   // A setting of the push alone shares the seed's deposition; the time step does not.
   CHECK(campaigns::deposition_key(fast, 1) == campaigns::deposition_key(mini, 1));
   CHECK(campaigns::with_knob(mini, knob("push_damping"), 0.3).push.local_damping == 0.3);
+  // The config's own value leaves it as it is: a compare study's runs of it are found by their keys.
+  CHECK(campaigns::with_knob(mini, knob("velocity"), mini.push.velocity).text == mini.text);
+  CHECK(campaigns::with_knob(mini, knob("stiffness_scaling"), 1.0).text == mini.text);
   const auto coarse = campaigns::with_knob(mini, knob("time_step_safety"), 0.6);
   CHECK(coarse.time_step_safety == 0.6);
   CHECK(campaigns::deposition_key(coarse, 1) != campaigns::deposition_key(mini, 1));
