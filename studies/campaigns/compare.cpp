@@ -18,12 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-double mean_of(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v) s += x;
-  return v.empty() ? 0.0 : s / double(v.size());
-}
-
 const char* verdict_text(Verdict v) {
   switch (v) {
     case Verdict::within: return "within";
@@ -31,14 +25,6 @@ const char* verdict_text(Verdict v) {
     default: return "undecided";
   }
 }
-
-std::string percent_interval(const MeanInterval& d) {
-  if (d.n == 0) return "-";
-  if (!std::isfinite(d.half_width)) return fmt::format("{:+.1f}", 100.0 * d.mean);
-  return fmt::format("{:+.1f} +- {:.1f}", 100.0 * d.mean, 100.0 * d.half_width);
-}
-
-std::string speedup_text(double s) { return s > 0.0 ? fmt::format("{:.2f}x", s) : "-"; }
 
 // The one-line verdict of a model: both outputs within the tolerance, or which is not, and
 // whether the differences are larger than the seed-to-seed spread.
@@ -64,6 +50,16 @@ std::string verdict_line(const ModelRow& r, double tolerance) {
 }
 
 }  // namespace
+
+std::string percent_interval(const MeanInterval& d) {
+  if (d.n == 0) return "-";
+  if (!std::isfinite(d.half_width)) return fmt::format("{:+.1f}", 100.0 * d.mean);
+  return fmt::format("{:+.1f} +- {:.1f}", 100.0 * d.mean, 100.0 * d.half_width);
+}
+
+std::string speedup_text(double s) { return s > 0.0 ? fmt::format("{:.2f}x", s) : "-"; }
+
+ForceUnit force_unit(double largest_newtons) { return largest_newtons >= 1e3 ? ForceUnit{1e-3, "kN"} : ForceUnit{}; }
 
 std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::string& option) {
   const auto refuse = [&](const std::string& why) {
@@ -245,11 +241,9 @@ void print_compare_table(std::ostream& out, const CompareTable& t) {
                r.contacts_per_element, r.relative_step_cost > 0.0 ? fmt::format("{:.2f}x", r.relative_step_cost) : "-");
   fmt::print(out, "\nAccuracy (means over seeds; difference from the reference in %, paired by seed, +- the 95 % "
                   "Student-t half-width)\n");
-  // Forces in kN on a full-size bed, in N on a small one (a mini bed's peak is about 50 N).
   double largest = 0.0;
   for (const auto& r : t.rows) largest = std::max(largest, r.peak_force.mean);
-  const double scale = largest >= 1e3 ? 1e-3 : 1.0;
-  const char* unit = largest >= 1e3 ? "kN" : "N";
+  const auto [scale, unit] = force_unit(largest);
   fmt::print(out, "  {:<{}} {:>9} {:>15} {:>10} {:>15} {:>10} {:>15} {:>10} {:>15} {:>13}\n", "model", width,
              fmt::format("peak {}", unit), "d peak %", fmt::format("max c. {}", unit), "d max c. %",
              fmt::format("q99.9 {}", unit), "d q99.9 %", fmt::format("mean F {}", unit), "d mean F %", "F(u) NRMS %");

@@ -83,6 +83,18 @@ struct CompareTable {
 // The table of the request from the store's records (finished runs; failed ones listed).
 CompareTable compare_table(const runs::RunStore& store, const CompareRequest& request);
 
+// How the campaign tables write their numbers.
+// A paired difference in %: "+3.2 +- 1.1", "+3.2" from one seed, "-" from none.
+std::string percent_interval(const MeanInterval& difference);
+// "2.75x", or "-" when not measured.
+std::string speedup_text(double speedup);
+// Forces in kN on a full-size bed, in N on a small one (a mini bed's peak is about 50 N).
+struct ForceUnit {
+  double scale = 1.0;  // multiplies newtons
+  const char* name = "N";
+};
+ForceUnit force_unit(double largest_newtons);
+
 void print_compare_table(std::ostream& out, const CompareTable& table);
 void write_compare_markdown(const std::filesystem::path& file, const CompareTable& table);
 // One row per model, every number of the table in SI units (N, s) and fractions.

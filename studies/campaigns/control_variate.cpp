@@ -4,15 +4,11 @@
 
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 
+#include "studies/campaigns/paired_statistics.hpp"
+
 namespace mfdem::campaigns {
-namespace {
-
-double mean_of(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
-
-}  // namespace
 
 double control_variate_optimal_ratio(double correlation, double cost_ratio) {
   const double rho2 = correlation * correlation;

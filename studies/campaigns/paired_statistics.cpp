@@ -9,12 +9,17 @@
 
 namespace mfdem::campaigns {
 
+double mean_of(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return values.empty() ? 0.0 : sum / double(values.size());
+}
+
 MeanInterval mean_interval(const std::vector<double>& values) {
   MeanInterval m;
   m.n = values.size();
   if (m.n == 0) return m;
-  for (double v : values) m.mean += v;
-  m.mean /= double(m.n);
+  m.mean = mean_of(values);
   if (m.n < 2) {
     m.half_width = std::numeric_limits<double>::infinity();
     return m;

@@ -23,6 +23,9 @@ struct MeanInterval {
 
 MeanInterval mean_interval(const std::vector<double>& values);
 
+// The plain mean of the values; 0 for none.
+double mean_of(const std::vector<double>& values);
+
 // (model - reference) / reference per seed, for the seeds where both are given.
 std::vector<double> relative_differences(const std::vector<double>& model, const std::vector<double>& reference);
 

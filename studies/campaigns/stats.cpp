@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -26,12 +27,6 @@ namespace h5 = dem::h5;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double mean_of(const std::vector<double>& v) {
-  double s = 0.0;
-  for (double x : v) s += x;
-  return v.empty() ? 0.0 : s / double(v.size());
-}
-
 bool contains(const std::vector<std::uint64_t>& seeds, std::uint64_t seed) {
   return std::find(seeds.begin(), seeds.end(), seed) != seeds.end();
 }
@@ -41,16 +36,6 @@ std::optional<runs::RunRecord> finished_run(const runs::RunStore& store, const S
   auto record = store.find(run_key(request.config, model, seed));
   if (record && !record->finished()) return std::nullopt;
   return record;
-}
-
-// The width output's values over the finished runs of `seeds`.
-MeanInterval width_output_interval(const runs::RunStore& store, const StatsRequest& request,
-                                   const std::vector<std::uint64_t>& seeds) {
-  std::vector<double> values;
-  for (std::uint64_t seed : seeds)
-    if (const auto r = finished_run(store, request, request.model, seed))
-      if (const auto v = r->number(request.width_output)) values.push_back(*v);
-  return mean_interval(values);
 }
 
 bool width_met(const MeanInterval& m, double width) {
@@ -82,6 +67,39 @@ std::string control_verdict(const OutputStatistics& o) {
                        e.optimal_ratio, e.variance_ratio_optimal);
   return fmt::format("does not pay: rho = {:.2f} is too weak for a cost ratio of {:.2f} (variance {:.2f} x plain "
                      "sampling at best)", e.correlation, e.cost_ratio, e.variance_ratio_optimal);
+}
+
+// The cells of an output's row after its label: N, mean, sd, cv %, t interval, bootstrap
+// interval, +- %, the seeds the report width needs.
+std::array<std::string, 8> summary_cells(const OutputSummary& s, double scale) {
+  const bool spread = s.mean.n >= 2;
+  const auto range = [&](double lo, double hi) { return fmt::format("{:.4g} - {:.4g}", lo * scale, hi * scale); };
+  return {fmt::format("{}", s.mean.n),
+          fmt::format("{:.4g}", s.mean.mean * scale),
+          fmt::format("{:.3g}", s.mean.standard_deviation * scale),
+          percent(s.variation()),
+          spread ? range(s.mean.low(), s.mean.high()) : "-",
+          s.bootstrap ? range(s.bootstrap->low, s.bootstrap->high) : "-",
+          spread ? percent(s.relative_half_width()) : "-",
+          s.seeds_for_width ? fmt::format("{}", *s.seeds_for_width) : "-"};
+}
+
+// The cells of an output's control-variate row after its label: rho, alpha, the model alone and
+// the estimate with their 95 % half-widths, the variance as run, m/n*, the variance at m/n*.
+std::array<std::string, 7> control_cells(const ControlVariateEstimate& e, double scale) {
+  return {fmt::format("{:.3f}", e.correlation),
+          fmt::format("{:.3f}", e.alpha),
+          fmt::format("{:.4g} +- {:.3g}", e.plain_mean * scale, e.plain_half_width * scale),
+          fmt::format("{:.4g} +- {:.3g}", e.estimate * scale, e.half_width * scale),
+          fmt::format("{:.2f}", e.variance_ratio_as_run),
+          fmt::format("{:.1f}", e.optimal_ratio),
+          fmt::format("{:.2f}", e.variance_ratio_optimal)};
+}
+
+ForceUnit table_unit(const StatsTable& t) {
+  double largest = 0.0;
+  for (const auto& o : t.outputs) largest = std::max(largest, std::abs(o.summary.mean.mean));
+  return force_unit(largest);
 }
 
 std::string width_line(const StatsTable& t) {
@@ -155,10 +173,16 @@ void check_stats_request(const StatsRequest& r) {
 std::vector<std::uint64_t> stats_seeds(const runs::RunStore& store, const StatsRequest& request) {
   std::vector<std::uint64_t> seeds = request.seeds;
   if (!(request.until_width > 0.0)) return seeds;
-  for (;;) {
-    for (std::uint64_t s : seeds)
-      if (!store.has(run_key(request.config, request.model, s))) return seeds;  // not decidable yet
-    if (width_met(width_output_interval(store, request, seeds), request.until_width)) return seeds;
+  // The width output over the runs so far: each record read once, as the seeds are walked.
+  std::vector<double> values;
+  for (std::size_t read = 0;;) {
+    for (; read < seeds.size(); ++read) {
+      const std::string key = run_key(request.config, request.model, seeds[read]);
+      if (!store.has(key)) return seeds;  // not decidable yet
+      if (const auto r = store.find(key); r && r->finished())
+        if (const auto v = r->number(request.width_output)) values.push_back(*v);
+    }
+    if (width_met(mean_interval(values), request.until_width)) return seeds;
     if (seeds.size() >= request.max_seeds) return seeds;
     seeds.push_back(*std::max_element(seeds.begin(), seeds.end()) + 1);
   }
@@ -291,25 +315,18 @@ StatsTable stats_table(const runs::RunStore& store, const StatsRequest& request,
 }
 
 void print_stats_table(std::ostream& out, const StatsTable& t) {
-  double largest = 0.0;
-  for (const auto& o : t.outputs) largest = std::max(largest, std::abs(o.summary.mean.mean));
-  const double scale = largest >= 1e3 ? 1e-3 : 1.0;
-  const char* unit = largest >= 1e3 ? "kN" : "N";
+  const auto [scale, unit] = table_unit(t);
   fmt::print(out, "\nStats: {} of {} on {} seeds ({}){}\n", t.model, t.config, t.finished, seed_list(t.seeds),
              t.failures.empty() ? "" : fmt::format(", {} failed", t.failures.size()));
   fmt::print(out, "  per seed: deposition {}, preparation {}, push {} (means)\n", scene::format_duration(t.deposition_wall),
              scene::format_duration(t.preparation_wall), scene::format_duration(t.push_wall));
-  const std::string w = fmt::format("seeds +-{:g} %", 100.0 * t.report_width);
-  fmt::print(out, "\n  {:<38} {:>3} {:>9} {:>8} {:>6} {:>21} {:>21} {:>7} {:>14}\n", fmt::format("output, in {}", unit), "N",
-             "mean", "sd", "cv %", "95 % t interval", "95 % bootstrap", "+- %", w);
+  const std::string row = "  {:<38} {:>3} {:>9} {:>8} {:>6} {:>21} {:>21} {:>7} {:>14}\n";
+  fmt::print(out, "\n");
+  fmt::print(out, fmt::runtime(row), fmt::format("output, in {}", unit), "N", "mean", "sd", "cv %", "95 % t interval",
+             "95 % bootstrap", "+- %", fmt::format("seeds +-{:g} %", 100.0 * t.report_width));
   for (const auto& o : t.outputs) {
-    const OutputSummary& s = o.summary;
-    const auto range = [&](double lo, double hi) { return fmt::format("{:.4g} - {:.4g}", lo * scale, hi * scale); };
-    fmt::print(out, "  {:<38} {:>3} {:>9.4g} {:>8.3g} {:>6} {:>21} {:>21} {:>7} {:>14}\n", o.name.label, s.mean.n,
-               s.mean.mean * scale, s.mean.standard_deviation * scale, percent(s.variation()),
-               s.mean.n >= 2 ? range(s.mean.low(), s.mean.high()) : "-",
-               s.bootstrap ? range(s.bootstrap->low, s.bootstrap->high) : "-", s.mean.n >= 2 ? percent(s.relative_half_width()) : "-",
-               s.seeds_for_width ? fmt::format("{}", *s.seeds_for_width) : "-");
+    const auto c = summary_cells(o.summary, scale);
+    fmt::print(out, fmt::runtime(row), o.name.label, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]);
   }
   fmt::print(out, "  (cv: standard deviation over the mean, the scatter between packings; +- %: the 95 % Student-t "
                   "half-width over the mean;\n   seeds +-{:g} %: the seeds that half-width needs at the scatter measured)\n",
@@ -323,18 +340,16 @@ void print_stats_table(std::ostream& out, const StatsTable& t) {
     fmt::print(out, "  cost per run: the model {}, the cheap model with its seed's deposition {}; ratio {:.2f}\n",
                scene::format_duration(t.reference_cost), scene::format_duration(t.cheap_cost),
                t.cheap_cost > 0.0 ? t.reference_cost / t.cheap_cost : 0.0);
-    fmt::print(out, "  {:<38} {:>6} {:>7} {:>22} {:>22} {:>9} {:>7} {:>9}\n", "output", "rho", "alpha", "model alone",
-               "control variate", "as run", "m/n*", "at m/n*");
+    const std::string control_row = "  {:<38} {:>6} {:>7} {:>22} {:>22} {:>9} {:>7} {:>9}\n";
+    fmt::print(out, fmt::runtime(control_row), "output", "rho", "alpha", "model alone", "control variate", "as run",
+               "m/n*", "at m/n*");
     for (const auto& o : t.outputs) {
       if (!o.control) {
         fmt::print(out, "  {:<38} {}\n", o.name.label, o.control_note);
         continue;
       }
-      const ControlVariateEstimate& e = *o.control;
-      fmt::print(out, "  {:<38} {:>6.3f} {:>7.3f} {:>22} {:>22} {:>9.2f} {:>7.1f} {:>9.2f}\n", o.name.label, e.correlation,
-                 e.alpha, fmt::format("{:.4g} +- {:.3g}", e.plain_mean * scale, e.plain_half_width * scale),
-                 fmt::format("{:.4g} +- {:.3g}", e.estimate * scale, e.half_width * scale), e.variance_ratio_as_run,
-                 e.optimal_ratio, e.variance_ratio_optimal);
+      const auto c = control_cells(*o.control, scale);
+      fmt::print(out, fmt::runtime(control_row), o.name.label, c[0], c[1], c[2], c[3], c[4], c[5], c[6]);
     }
     fmt::print(out, "  (as run / at m/n*: the estimator's variance against the model's runs alone of the same cost; "
                     "below 1 the cheap runs pay)\n");
@@ -346,10 +361,7 @@ void print_stats_table(std::ostream& out, const StatsTable& t) {
 }
 
 void write_stats_markdown(std::ostream& out, const StatsTable& t) {
-  double largest = 0.0;
-  for (const auto& o : t.outputs) largest = std::max(largest, std::abs(o.summary.mean.mean));
-  const double scale = largest >= 1e3 ? 1e-3 : 1.0;
-  const char* unit = largest >= 1e3 ? "kN" : "N";
+  const auto [scale, unit] = table_unit(t);
   fmt::print(out, "# Stats: {} of {} on {} seeds\n\n", t.model, t.config, t.finished);
   fmt::print(out, "Seeds {} ({} finished{}); per seed: deposition {}, preparation {}, push {} (means).\n\n",
              seed_list(t.seeds), t.finished, t.failures.empty() ? "" : fmt::format(", {} failed", t.failures.size()),
@@ -358,15 +370,8 @@ void write_stats_markdown(std::ostream& out, const StatsTable& t) {
   fmt::print(out, "| output | N | mean ({0}) | sd ({0}) | cv % | 95 % t interval ({0}) | 95 % bootstrap ({0}) | +- % | seeds for +-{1:g} % |\n",
              unit, 100.0 * t.report_width);
   fmt::print(out, "|---|---|---|---|---|---|---|---|---|\n");
-  for (const auto& o : t.outputs) {
-    const OutputSummary& s = o.summary;
-    const auto range = [&](double lo, double hi) { return fmt::format("{:.4g} - {:.4g}", lo * scale, hi * scale); };
-    fmt::print(out, "| {} | {} | {:.4g} | {:.3g} | {} | {} | {} | {} | {} |\n", o.name.label, s.mean.n, s.mean.mean * scale,
-               s.mean.standard_deviation * scale, percent(s.variation()), s.mean.n >= 2 ? range(s.mean.low(), s.mean.high()) : "-",
-               s.bootstrap ? range(s.bootstrap->low, s.bootstrap->high) : "-",
-               s.mean.n >= 2 ? percent(s.relative_half_width()) : "-",
-               s.seeds_for_width ? fmt::format("{}", *s.seeds_for_width) : "-");
-  }
+  for (const auto& o : t.outputs)
+    fmt::print(out, "| {} | {} |\n", o.name.label, fmt::join(summary_cells(o.summary, scale), " | "));
   fmt::print(out, "\ncv: the standard deviation over the mean (the scatter between packings). +- %: the half-width of "
                   "the 95 % Student-t interval over the mean. Bootstrap: the percentile interval of {} resamples "
                   "(no normality assumed). Seeds for +-{:g} %: the seeds that half-width needs at the scatter "
@@ -380,15 +385,11 @@ void write_stats_markdown(std::ostream& out, const StatsTable& t) {
     fmt::print(out, "| output | rho | alpha | model alone ({0}) | control variate ({0}) | variance as run | m/n* | variance at m/n* | verdict |\n", unit);
     fmt::print(out, "|---|---|---|---|---|---|---|---|---|\n");
     for (const auto& o : t.outputs) {
-      if (!o.control) {
+      if (!o.control)
         fmt::print(out, "| {} | - | - | - | - | - | - | - | {} |\n", o.name.label, o.control_note);
-        continue;
-      }
-      const ControlVariateEstimate& e = *o.control;
-      fmt::print(out, "| {} | {:.3f} | {:.3f} | {:.4g} +- {:.3g} | {:.4g} +- {:.3g} | {:.2f} | {:.1f} | {:.2f} | {} |\n",
-                 o.name.label, e.correlation, e.alpha, e.plain_mean * scale, e.plain_half_width * scale,
-                 e.estimate * scale, e.half_width * scale, e.variance_ratio_as_run, e.optimal_ratio,
-                 e.variance_ratio_optimal, control_verdict(o));
+      else
+        fmt::print(out, "| {} | {} | {} |\n", o.name.label, fmt::join(control_cells(*o.control, scale), " | "),
+                   control_verdict(o));
     }
     fmt::print(out, "\nThe estimator (Peherstorfer, Willcox & Gunzburger 2016): mean of the model's n runs + alpha x "
                     "(mean of the cheap model's m runs - its mean on the model's n seeds); +- is the 95 % interval. "

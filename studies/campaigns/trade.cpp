@@ -28,6 +28,13 @@ const KnobSpec* find_knob(const std::string& name) {
 
 double accurate_end(const KnobValues& k) { return k.spec->accurate_low ? k.values.front() : k.values.back(); }
 
+// A knob's values from its accurate end outwards.
+std::vector<double> outward_values(const KnobValues& k) {
+  std::vector<double> v = k.values;
+  if (!k.spec->accurate_low) std::reverse(v.begin(), v.end());
+  return v;
+}
+
 toml::table& subtable(toml::table& t, const char* name) {
   if (!t.contains(name) || !t[name].is_table()) t.insert_or_assign(name, toml::table{});
   return *t[name].as_table();
@@ -42,14 +49,6 @@ railway::PushStudyConfig setting_config(const TradeRequest& r, std::optional<std
 }
 
 std::string value_text(double v) { return fmt::format("{:g}", v); }
-
-std::string percent_interval(const MeanInterval& d) {
-  if (d.n == 0) return "-";
-  if (!std::isfinite(d.half_width)) return fmt::format("{:+.1f}", 100.0 * d.mean);
-  return fmt::format("{:+.1f} +- {:.1f}", 100.0 * d.mean, 100.0 * d.half_width);
-}
-
-std::string speedup_text(double s) { return s > 0.0 ? fmt::format("{:.2f}x", s) : "-"; }
 
 std::string verdict_words(const ModelRow& r) {
   if (r.peak_verdict == Verdict::within && r.contact_verdict == Verdict::within) return "within";
@@ -70,17 +69,7 @@ std::array<std::string, 6> row_cells(const TradeRow& r, double tolerance) {
           reference || r.status != "ran" ? r.status : fmt::format("ran, {} {:.0f} %", verdict_words(m), 100.0 * tolerance)};
 }
 
-std::string edge_line(const KnobEdge& e, bool accurate_low);
-
-// The edges, one line each after `bullet`.
-void print_edges(std::ostream& out, const TradeTable& t, const char* bullet) {
-  for (const auto& e : t.edges) {
-    const KnobSpec* spec = find_knob(e.knob);
-    fmt::print(out, "{}{}\n", bullet, edge_line(e, spec == nullptr || spec->accurate_low));
-  }
-}
-
-std::string edge_line(const KnobEdge& e, bool accurate_low) {
+std::string edge_line(const KnobEdge& e) {
   std::string line = fmt::format("{}: ", e.knob);
   if (!e.first_unsafe) {
     line += e.last_safe ? fmt::format("every value ran, up to {}; the edge lies beyond the values tried",
@@ -92,11 +81,16 @@ std::string edge_line(const KnobEdge& e, bool accurate_low) {
                         : fmt::format("unsafe already at {} ({})", value_text(*e.first_unsafe), e.why);
   }
   if (e.last_safe && e.default_value > 0.0 && *e.last_safe > 0.0) {
-    const double margin = accurate_low ? *e.last_safe / e.default_value : e.default_value / *e.last_safe;
+    const double margin = e.accurate_low ? *e.last_safe / e.default_value : e.default_value / *e.last_safe;
     line += fmt::format("; the config's {} keeps a margin of at least {:.2f}x to the last safe value",
                         value_text(e.default_value), margin);
   }
   return line;
+}
+
+// The edges, one line each after `bullet`.
+void print_edges(std::ostream& out, const TradeTable& t, const char* bullet) {
+  for (const auto& e : t.edges) fmt::print(out, "{}{}\n", bullet, edge_line(e));
 }
 
 }  // namespace
@@ -197,9 +191,7 @@ TradePlan plan_trade(const TradeRequest& r) {
   };
   add_run(plan.reference, reference_label);
   for (std::size_t k = 0; k < r.knobs.size(); ++k) {
-    std::vector<double> outward = r.knobs[k].values;  // from the accurate end outwards
-    if (!r.knobs[k].spec->accurate_low) std::reverse(outward.begin(), outward.end());
-    for (double v : outward) {
+    for (double v : outward_values(r.knobs[k])) {
       if (v == accurate_end(r.knobs[k])) continue;
       TradeSetting s{k, v, fmt::format("{}={}", r.knobs[k].spec->name, value_text(v)), ""};
       std::optional<railway::PushStudyConfig> c;
@@ -249,12 +241,12 @@ TradeTable trade_table(const runs::RunStore& store, const TradeRequest& request,
   }
   for (std::size_t k = 0; k < request.knobs.size(); ++k) {
     const KnobValues& knob = request.knobs[k];
+    t.knob_names.emplace_back(knob.spec->name);
     KnobEdge e;
     e.knob = knob.spec->name;
+    e.accurate_low = knob.spec->accurate_low;
     e.default_value = knob_value(request.config, *knob.spec);
-    std::vector<double> outward = knob.values;  // from the accurate end outwards
-    if (!knob.spec->accurate_low) std::reverse(outward.begin(), outward.end());
-    for (double v : outward) {
+    for (double v : outward_values(knob)) {
       const TradeRow* row = nullptr;
       if (v == accurate_end(knob)) row = &t.rows.front();
       else
@@ -321,9 +313,7 @@ void write_trade_csv(const fs::path& file, const TradeTable& t) {
     return "\"" + s + "\"";
   };
   for (const auto& r : t.rows) {
-    std::string knob_name = "reference";
-    if (r.setting.knob) knob_name = r.setting.label.substr(0, r.setting.label.find('='));
-    fmt::print(out, "{},{},{},{}", knob_name, r.setting.knob ? number(r.setting.value) : "", quoted(r.setting.label),
+    fmt::print(out, "{},{},{},{}", r.setting.knob ? t.knob_names[*r.setting.knob] : "reference", r.setting.knob ? number(r.setting.value) : "", quoted(r.setting.label),
                quoted(r.status));
     if (r.measured) {
       const ModelRow& m = *r.measured;

@@ -81,6 +81,7 @@ struct TradeRow {
 
 struct KnobEdge {
   std::string knob;
+  bool accurate_low = true;          // as the knob's KnobSpec
   double default_value = 0.0;        // the config's own value
   std::optional<double> last_safe;   // the farthest value from the accurate end that ran on every seed
   std::optional<double> first_unsafe;  // the nearest value beyond it that was refused or stopped
@@ -91,6 +92,7 @@ struct TradeTable {
   CompareTable compare;              // of the settings that ran
   std::vector<TradeRow> rows;        // in plan order
   std::vector<KnobEdge> edges;       // per knob
+  std::vector<std::string> knob_names;  // of request.knobs, for TradeSetting::knob
 };
 
 TradeTable trade_table(const runs::RunStore& store, const TradeRequest& request, const TradePlan& plan);

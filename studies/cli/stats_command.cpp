@@ -39,7 +39,7 @@ struct StatsOptions {
   std::string slice;  // K/N: this process's share (a job array's task)
 };
 
-campaigns::StatsRequest make_request(const StatsOptions& o) {
+campaigns::StatsRequest make_request(const StatsOptions& o, const CampaignShare& share) {
   campaigns::StatsRequest r;
   r.config = railway::load_push_config(o.config);
   r.model = campaigns::parse_model(o.model, "--model");
@@ -51,14 +51,14 @@ campaigns::StatsRequest make_request(const StatsOptions& o) {
   if (!o.control.empty()) r.control = campaigns::parse_model(o.control, "--control");
   if (!o.control_seeds.empty()) r.control_seeds = campaigns::parse_seeds(o.control_seeds, "--control-seeds");
   r.bootstrap.resamples = o.resamples;
-  r.slice = campaign_share(o.slice, 1).slice;
+  r.slice = share.slice;
   campaigns::check_stats_request(r);
   return r;
 }
 
 int stats(StatsOptions o) {
-  const campaigns::StatsRequest request = make_request(o);  // every input checked before any work
   const CampaignShare share = campaign_share(o.slice, 1);
+  const campaigns::StatsRequest request = make_request(o, share);  // every input checked before any work
   if (!share.writes_tables()) o.common.quiet = true;
   runs::RunStore store(o.common.out);
   if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
