@@ -19,25 +19,10 @@ from mfdem import figures, files
 
 
 def force_displacement(data, config, out, quiet):
-    curves = [c for c in data["curves"] if len(c["u"])]
-    scale, unit = figures.force_unit(max(c["high"].max() for c in curves))
-    colours = figures.model_colours(len(data["curves"]))
-    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
-    for c, colour in zip(data["curves"], colours):
-        if not len(c["u"]):
-            continue
-        u = c["u"] * 1e3
-        ax.fill_between(u, c["low"] * scale, c["high"] * scale, color=colour, alpha=0.15, lw=0)
-        ax.plot(u, c["mean"] * scale, color=colour, lw=1.6, label=f"{c['model']} ({figures.seeds_text(c['seeds'])})")
-    ax.set_xlabel("sleeper displacement u (mm)")
-    ax.set_ylabel(f"lateral force on the sleeper F ({unit})")
-    ax.set_xlim(left=0)
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right", title="model (the first is the reference)", title_fontsize=8)
-    ax.set_title(f"{config}: lateral resistance F(u), the mean over the seeds;\n"
-                 "band: the lowest to the highest seed at each u", fontsize=10)
-    return figures.save(fig, out / "force_displacement", quiet)
+    bands = [{**c, "label": f"{c['model']} ({figures.seeds_text(c['seeds'])})"} for c in data["curves"]]
+    return figures.force_bands(bands, f"{config}: lateral resistance F(u), the mean over the seeds;\n"
+                               "band: the lowest to the highest seed at each u", "model (the first is the reference)",
+                               out, quiet)
 
 
 def section_panels(data, title):

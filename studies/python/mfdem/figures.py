@@ -72,3 +72,26 @@ def force_unit(largest_newtons: float):
 
 def sleeper_outline(ax, x0, x1, z0, z1, **style) -> None:
     ax.add_patch(plt.Rectangle((x0, z0), x1 - x0, z1 - z0, fill=False, lw=1.5, ec="k", **style))
+
+
+def force_bands(bands, title, legend_title, out, quiet):
+    """F(u) with bands: each band a dict of u, mean, low, high (m, N) and its label; the mean as a
+    line and the band from the lowest to the highest seed shaded, the first band black. Written to
+    OUT/force_displacement."""
+    bands = [b for b in bands if len(b["u"])]
+    if not bands:
+        return []
+    scale, unit = force_unit(max(b["high"].max() for b in bands))
+    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
+    for b, colour in zip(bands, model_colours(len(bands))):
+        u = b["u"] * 1e3
+        ax.fill_between(u, b["low"] * scale, b["high"] * scale, color=colour, alpha=0.15, lw=0)
+        ax.plot(u, b["mean"] * scale, color=colour, lw=1.6, label=b["label"])
+    ax.set_xlabel("sleeper displacement u (mm)")
+    ax.set_ylabel(f"lateral force on the sleeper F ({unit})")
+    ax.set_xlim(left=0)
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right", title=legend_title, title_fontsize=8)
+    ax.set_title(title, fontsize=10)
+    return save(fig, Path(out) / "force_displacement", quiet)

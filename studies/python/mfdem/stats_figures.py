@@ -28,15 +28,26 @@ def _panels(n):
     return fig, axes.ravel()
 
 
+def _per_output(outputs, draw, suptitle, stem, out, quiet, legend_first=True):
+    """One panel per output, drawn by draw(ax, output, scale, unit) in the output's force unit."""
+    fig, axes = _panels(len(outputs))
+    for ax, o in zip(axes, outputs):
+        scale, unit = figures.force_unit(np.nanmax(np.abs(o["values"])))
+        draw(ax, o, scale, unit)
+    if legend_first:
+        axes[0].legend(fontsize=7, loc="best")
+    for ax in axes[len(outputs):]:
+        ax.axis("off")
+    fig.suptitle(suptitle, fontsize=10)
+    return figures.save(fig, out / stem, quiet)
+
+
 def _title(labels):
     return f"{labels['model']} on {labels['config']}, {figures.seeds_text(labels['seeds'])} (each its own packing)"
 
 
 def distributions(data, out, quiet):
-    outputs = data["outputs"]
-    fig, axes = _panels(len(outputs))
-    for ax, o in zip(axes, outputs):
-        scale, unit = figures.force_unit(np.nanmax(np.abs(o["values"])))
+    def draw(ax, o, scale, unit):
         v = o["values"] * scale
         if len(v) >= 3:
             parts = ax.violinplot([v], positions=[0], showextrema=False, widths=0.7)
@@ -59,20 +70,15 @@ def distributions(data, out, quiet):
         cv = o["standard_deviation"] / abs(o["mean"]) if o["mean"] else 0.0
         ax.set_title(f"{o['label']}: sd {o['standard_deviation'] * scale:.3g} {unit} (cv {100 * cv:.1f} %)", fontsize=9)
         ax.grid(alpha=0.3, axis="y")
-    axes[0].legend(fontsize=7, loc="best")
-    for ax in axes[len(outputs):]:
-        ax.axis("off")
-    fig.suptitle(f"{_title(data['labels'])}: the scatter between packings", fontsize=10)
-    return figures.save(fig, out / "distributions", quiet)
+    return _per_output(data["outputs"], draw, f"{_title(data['labels'])}: the scatter between packings",
+                       "distributions", out, quiet)
 
 
 def running_mean(data, out, quiet):
-    outputs = data["outputs"]
     labels = data["labels"]
     width = labels["until_width"] if labels["until_width"] > 0 else labels["report_width"]
-    fig, axes = _panels(len(outputs))
-    for ax, o in zip(axes, outputs):
-        scale, unit = figures.force_unit(np.nanmax(np.abs(o["values"])))
+
+    def draw(ax, o, scale, unit):
         n = np.arange(1, len(o["running_mean"]) + 1)
         m, h = o["running_mean"] * scale, o["running_half_width"] * scale
         ax.plot(n, o["values"] * scale, ".", color="0.6", ms=5, label="one seed")
@@ -91,31 +97,14 @@ def running_mean(data, out, quiet):
         ax.set_title(f"{o['label']} (band clipped to the axis)", fontsize=9)
         ax.grid(alpha=0.3)
         ax.xaxis.get_major_locator().set_params(integer=True)
-    axes[0].legend(fontsize=7, loc="best")
-    for ax in axes[len(outputs):]:
-        ax.axis("off")
-    fig.suptitle(f"{_title(labels)}: the mean as seeds were added", fontsize=10)
-    return figures.save(fig, out / "running_mean", quiet)
+    return _per_output(data["outputs"], draw, f"{_title(labels)}: the mean as seeds were added", "running_mean", out,
+                       quiet)
 
 
 def force_displacement(data, out, quiet):
-    c = data["curve"]
-    if not len(c["u"]):
-        return []
-    scale, unit = figures.force_unit(c["high"].max())
-    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
-    u = c["u"] * 1e3
-    ax.fill_between(u, c["low"] * scale, c["high"] * scale, color="C0", alpha=0.2, lw=0,
-                    label="the lowest to the highest seed")
-    ax.plot(u, c["mean"] * scale, color="C0", lw=1.6, label="mean over the seeds")
-    ax.set_xlabel("sleeper displacement u (mm)")
-    ax.set_ylabel(f"lateral force on the sleeper F ({unit})")
-    ax.set_xlim(left=0)
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
-    ax.set_title(f"{_title(data['labels'])}: F(u)", fontsize=10)
-    return figures.save(fig, out / "force_displacement", quiet)
+    band = {**data["curve"], "label": "mean over the seeds"}
+    return figures.force_bands([band], f"{_title(data['labels'])}: F(u);\nband: the lowest to the highest seed at each u",
+                               None, out, quiet)
 
 
 def control_variate(data, out, quiet):
@@ -123,9 +112,8 @@ def control_variate(data, out, quiet):
     outputs = [o for o in data["outputs"] if "cheap_paired" in o]
     if not outputs:
         return []
-    fig, axes = _panels(len(outputs))
-    for ax, o in zip(axes, outputs):
-        scale, unit = figures.force_unit(np.nanmax(np.abs(o["values"])))
+
+    def draw(ax, o, scale, unit):
         hi, lo = o["model_paired"] * scale, o["cheap_paired"] * scale
         ax.plot(lo, hi, "o", color="C0", ms=5, label=f"paired seeds ({len(lo)})")
         for k, x in enumerate(o["cheap_extra"] * scale):  # no model run there: ticks on the axis
@@ -144,10 +132,8 @@ def control_variate(data, out, quiet):
                      f"cost, best split: {verdict}", fontsize=8)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, loc="best")
-    for ax in axes[len(outputs):]:
-        ax.axis("off")
-    fig.suptitle(f"{_title(labels)}; {labels['control_model']} as a control variate", fontsize=10)
-    return figures.save(fig, out / "control_variate", quiet)
+    return _per_output(outputs, draw, f"{_title(labels)}; {labels['control_model']} as a control variate",
+                       "control_variate", out, quiet, legend_first=False)
 
 
 def main(argv=None) -> int:
