@@ -60,11 +60,21 @@ std::string csv_field(const std::string& text) {
   return out + "\"";
 }
 
-void write_readme(const fs::path& file) {
-  std::ofstream out(file);
+// Writes `text` to `file` of the store at `root` whole: into this process's own file in work/,
+// then renamed over `file`, so that a reader (another process opening the store) sees no file,
+// the old one or the new one, never a part.
+void write_whole(const fs::path& root, const fs::path& file, const std::string& text) {
+  const fs::path partial = root / "work" / fmt::format("{}.{}.{}", file.filename().string(), host_name(), getpid());
+  std::ofstream(partial) << text;
+  fs::rename(partial, file);
+}
+
+std::string readme_text() {
+  std::ostringstream out;
   out << "# An mfdem run store (studies/runs/run_store.hpp): runs/KEY/run.toml is each run's record,\n"
          "# index.csv a table of them rebuilt from the folders; work/ and claims/ hold runs in progress.\n"
       << toml::table{{"format", kFormat}} << "\n";
+  return out.str();
 }
 
 }  // namespace
@@ -141,7 +151,8 @@ RunStore::RunStore(fs::path root) : root_(std::move(root)) {
       throw std::runtime_error(fmt::format("{}: format '{}', expected '{}' (a store of another mfdem version)",
                                            readme.string(), format, kFormat));
   } else {
-    write_readme(readme);
+    // Several processes may open a new store at once: each writes the same text whole.
+    write_whole(root_, readme, readme_text());
   }
   // Writable, checked before any work: a study must not fail after its first run.
   const fs::path probe = root_ / "work" / fmt::format(".probe.{}.{}", host_name(), getpid());
@@ -297,10 +308,7 @@ void RunStore::write_index() const {
     }
     out << "," << csv_field(r.message) << "\n";
   }
-  const fs::path index = root_ / "index.csv";
-  const fs::path partial = root_ / "work" / fmt::format("index.csv.{}.{}", host_name(), getpid());
-  std::ofstream(partial) << out.str();
-  fs::rename(partial, index);  // a reader sees the old index or the new one, whole
+  write_whole(root_, root_ / "index.csv", out.str());
 }
 
 void RunStore::forget(const std::string& key) const { fs::remove_all(run_folder(key)); }

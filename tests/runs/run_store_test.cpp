@@ -197,6 +197,35 @@ TEST_CASE("two processes filling one store lose nothing and publish every run wh
   CHECK(index.rfind("key,status,revision,model,seed,elements,peak_force,message\n", 0) == 0);
 }
 
+TEST_CASE("processes opening one new store at once all open it", "[runs]") {
+  // The tasks of a job array start together on an empty --out: each must find store.toml absent
+  // or whole, never empty (a store half-written by another reads as "format ''"). 12 processes
+  // open the same 40 new stores in the same order, so they meet at every one.
+  const mfdem::test::TempDir dir;
+  constexpr int kProcesses = 12, kStores = 40;
+  std::vector<pid_t> children;
+  for (int p = 0; p < kProcesses; ++p) {
+    const pid_t child = fork();
+    if (child == 0) {
+      try {
+        for (int k = 0; k < kStores; ++k) RunStore(dir.path() / fmt::format("store{:02}", k));
+      } catch (...) {
+        _exit(1);
+      }
+      _exit(0);
+    }
+    children.push_back(child);
+  }
+  int opened = 0;
+  for (pid_t child : children) {
+    int status = 0;
+    waitpid(child, &status, 0);
+    opened += WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 1 : 0;
+  }
+  CHECK(opened == kProcesses);
+  for (int k = 0; k < kStores; ++k) CHECK_NOTHROW(RunStore(dir.path() / fmt::format("store{:02}", k)));
+}
+
 TEST_CASE("a store that cannot be made is refused before any work, naming the folder", "[runs]") {
   const mfdem::test::TempDir dir;
   std::ofstream(dir.path() / "file") << "";
