@@ -12,6 +12,7 @@
 #include "fidelity/policy.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/railway/model_bed.hpp"
+#include "studies/railway/preparation_checkpoint.hpp"
 #include "studies/railway/push_study.hpp"
 
 namespace mfdem::campaigns {
@@ -67,7 +68,7 @@ std::string bed_text(const railway::PushStudyConfig& config) {
 }  // namespace
 
 std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed) {
-  return fmt::format("deposit-{}-s{}", railway::config_hash(bed_text(config)), seed);
+  return fmt::format("deposit-{}-s{}", railway::config_hash(railway::deposition_text(config.text)), seed);
 }
 
 std::string prepared_bed_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {

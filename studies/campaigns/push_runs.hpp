@@ -44,7 +44,8 @@ railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, cons
 std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed);
 
 // The store's key of the deposited bed a run of `config` on `seed` starts from (shared/KEY): a
-// hash of the config without its name and [push], so settings of the push alone share it.
+// hash of the config without what acts after the deposition (railway::deposition_text), so
+// settings of the push, the tamping, the consolidation or the settling share it.
 std::string deposition_key(const railway::PushStudyConfig& config, std::uint64_t seed);
 
 // The key of a model's prepared bed on `seed` (shared/KEY/packing.h5), shared likewise.

@@ -284,7 +284,8 @@ std::optional<Packing> prepare_bed(const PushStudyConfig& c, const PreparationCo
   settle.sleeper->centre = bed.sleeper_centre;
   const Stage settling = run_stage(c, bed.domain, bed.stones, settle, {"settle", c.preparation.equilibrium_ratio,
                                    c.preparation.max_settling_time, bed.mean_size,
-                                   RestCriterion::kForcesAndEnergy}, control.quiet, control.stage_directory);
+                                   RestCriterion::kForcesAndEnergy, settling_creep(c, bed.mean_size)},
+                                   control.quiet, control.stage_directory);
   add_report(report, settling.report);
 
   Packing p;

@@ -74,6 +74,7 @@ std::optional<StageReport> model_preparation(const std::vector<StageReport>& sta
     sum.wall_seconds += s->wall_seconds;
     sum.unbalanced_force_ratio = s->unbalanced_force_ratio;
     sum.settled = s->settled;
+    sum.settled_by_creep = s->settled_by_creep;
     if (s->sleeper_base) sum.sleeper_base = s->sleeper_base;
     if (s->sleeper_base_start && !sum.sleeper_base_start) sum.sleeper_base_start = s->sleeper_base_start;
   }
@@ -130,9 +131,10 @@ ModelBed model_bed(const Packing& packing, const PushStudyConfig& c, const fidel
   if (!frames_path.empty())
     frames = std::make_unique<dem::StateFile>(frames_path, sim, fmt::format("re-settling of {} as {}", c.name, r.policy));
   try {
-    r.resettling = run_until_settled(sim, "resettle", c.preparation.equilibrium_ratio,
-                                     lifting_energy(grown.bodies, mean_size(packing.stones)), c.preparation.max_settling_time,
-                                     control.quiet, RestCriterion::kForcesAndEnergy, frames.get());
+    const double size = mean_size(packing.stones);
+    r.resettling = run_until_settled(sim, "resettle", c.preparation.equilibrium_ratio, lifting_energy(grown.bodies, size),
+                                     c.preparation.max_settling_time, control.quiet, RestCriterion::kForcesAndEnergy,
+                                     frames.get(), 0.02, 2e-3, {}, settling_creep(c, size));
   } catch (const dem::StabilityError&) {
     if (frames && sim.last_good_state()) frames->write_snapshot(sim, *sim.last_good_state(), "last good state");
     throw;

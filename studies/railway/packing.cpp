@@ -187,6 +187,8 @@ void append_stage_reports(const std::filesystem::path& path, const std::vector<S
     dem::h5::write_doubles(g, "unbalanced_force_ratio", s.check_force_ratio);
     dem::h5::write_doubles(g, "kinetic_ratio", s.check_kinetic_ratio);
     if (!s.check_sleeper_base.empty()) dem::h5::write_doubles(g, "sleeper_base", s.check_sleeper_base);
+    if (!s.check_creep.empty()) dem::h5::write_doubles(g, "creep", s.check_creep);
+    if (s.settled_by_creep) dem::h5::write_attribute(g, "settled_by_creep", 1.0);
     H5Gclose(g);
   }
   H5Gclose(all);
@@ -219,6 +221,8 @@ std::vector<StageReport> read_stage_reports(const std::filesystem::path& path) {
       s.check_force_ratio = dem::h5::read_doubles(g, "unbalanced_force_ratio");
       s.check_kinetic_ratio = dem::h5::read_doubles(g, "kinetic_ratio");
       if (H5Lexists(g, "sleeper_base", H5P_DEFAULT) > 0) s.check_sleeper_base = dem::h5::read_doubles(g, "sleeper_base");
+      if (H5Lexists(g, "creep", H5P_DEFAULT) > 0) s.check_creep = dem::h5::read_doubles(g, "creep");
+      s.settled_by_creep = has("settled_by_creep") && read_attribute(g, "settled_by_creep") != 0.0;
       s.unbalanced_force_ratio = has("end_unbalanced_force_ratio") ? read_attribute(g, "end_unbalanced_force_ratio")
                                  : s.check_force_ratio.empty() ? 0.0 : s.check_force_ratio.back();
       // The stages ran in `order`; files from before it was written list them by name.

@@ -24,13 +24,15 @@
 //                           hold it. Packings written before they were kept have no group and
 //                           start from unloaded springs.
 //   /packing/stages/NAME/   of each preparation stage (written by append_stage_reports): attrs
-//                           simulated_time, steps, settled (1/0), wall_seconds,
+//                           simulated_time, steps, settled (1/0), settled_by_creep (1 when the
+//                           creep goal ended it; absent otherwise), wall_seconds,
 //                           end_unbalanced_force_ratio, order (0, 1, ...: the order they ran,
 //                           as HDF5 lists groups by name), sleeper_base and sleeper_base_start
 //                           (m, at the stage's end and start, once the sleeper is placed); at each
 //                           equilibrium check [n]: time (s since the stage began),
 //                           unbalanced_force_ratio, kinetic_ratio (kinetic energy / M g d),
-//                           sleeper_base (m; once the sleeper is in the bed).
+//                           sleeper_base (m; once the sleeper is in the bed), creep (the stones'
+//                           mean displacement over creep_window / their mean size; with a creep goal).
 // Every number is stored as the double the solver held, so a push from the file is bitwise the
 // push from memory.
 #include <cstdint>

@@ -17,14 +17,15 @@ namespace {
 namespace fs = std::filesystem;
 
 // The [preparation] keys that act only after the deposition (and the trimming, which is redone).
-constexpr std::array<std::string_view, 13> kAfterDeposition = {
+constexpr std::array<std::string_view, 15> kAfterDeposition = {
     "tamping_depth", "tamping_time", "tamping_sleeper_vertical", "consolidation_gravity", "consolidation_time",
     "expansion_steps", "expansion_time", "traffic_cycles", "traffic_load", "traffic_period", "local_damping",
-    "equilibrium_ratio", "max_settling_time"};
+    "equilibrium_ratio", "max_settling_time", "creep_ratio", "creep_window"};
 
 // The [preparation] keys that act in the traffic and the settling after it.
-constexpr std::array<std::string_view, 6> kTrafficAndSettling = {
-    "traffic_cycles", "traffic_load", "traffic_period", "local_damping", "equilibrium_ratio", "max_settling_time"};
+constexpr std::array<std::string_view, 8> kTrafficAndSettling = {
+    "traffic_cycles", "traffic_load", "traffic_period", "local_damping", "equilibrium_ratio", "max_settling_time",
+    "creep_ratio", "creep_window"};
 
 // The first line where two config texts differ, for a message a person can act on.
 std::string first_different_line(const std::string& saved, const std::string& given) {
@@ -118,6 +119,12 @@ void check_continued_with(const fs::path& path, const PushStudyConfig& saved, co
 }
 
 }  // namespace
+
+std::string deposition_text(const std::string& config_text) {
+  std::ostringstream text;
+  text << part_before(config_text, kAfterDeposition);
+  return text.str();
+}
 
 void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const BedBetweenStages& bed,
                      const StageSetup& setup, const PreparationReport& report, const std::string& next_stage) {

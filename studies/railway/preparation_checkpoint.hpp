@@ -41,6 +41,10 @@ struct BedBetweenStages {
   bool trimmed = false;              // false: as deposited, before the trimming and the sleeper's cut
 };
 
+// The config text without what acts after the deposition (name, seed, [push], [fidelity] and the
+// [preparation] keys of kDeposit below), serialised: equal for configs that deposit the same bed.
+std::string deposition_text(const std::string& config_text);
+
 // Writes the checkpoint to `path` (through a temporary file, so a run stopped while writing
 // keeps the previous one). `setup` holds the boundaries of the bed's state: the deposition's
 // container, or the sleeper box the next stage starts with.

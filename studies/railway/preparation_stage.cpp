@@ -14,6 +14,10 @@ constexpr double kGravity = 9.81;  // m/s^2, the solver's default gravity
 
 }  // namespace
 
+CreepGoal settling_creep(const PushStudyConfig& c, double mean_size) {
+  return {c.preparation.creep_ratio, c.preparation.creep_window, mean_size};
+}
+
 double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size) {
   double mass = 0.0;
   for (const auto& s : stones) mass += s.mass;
@@ -33,7 +37,7 @@ Stage run_stage(const PushStudyConfig& c, const dem::Domain& domain, const std::
   if (!stage_directory.empty())
     frames = std::make_unique<dem::StateFile>(stage_directory / (std::string(goal.name) + ".h5"), sim, goal.name);
   stage.report = run_until_settled(sim, goal.name, goal.ratio, lifting_energy(stones, goal.mean_size),
-                                   goal.max_time, quiet, goal.criterion, frames.get(), 0.02, 2e-3, drive);
+                                   goal.max_time, quiet, goal.criterion, frames.get(), 0.02, 2e-3, drive, goal.creep);
   if (setup.sleeper) {
     stage.report.sleeper_base_start = dem::box_bottom(*setup.sleeper);
     stage.report.sleeper_base = dem::box_bottom(sim.boxes()[0]);

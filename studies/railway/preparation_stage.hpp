@@ -18,6 +18,7 @@ struct StageGoal {
   double max_time;  // s
   double mean_size; // m, of the stones: the energy scale is their weight times it
   RestCriterion criterion;
+  CreepGoal creep = {};  // with kForcesAndEnergy: the settling stages' second criterion
 };
 
 struct Stage {
@@ -30,6 +31,9 @@ struct Stage {
 Stage run_stage(const PushStudyConfig& config, const dem::Domain& domain, const std::vector<dem::ClumpSpec>& stones,
                 const StageSetup& setup, const StageGoal& goal, bool quiet, const std::filesystem::path& stage_directory,
                 const StageDrive& drive = {});
+
+// The settling stages' creep goal (config keys creep_ratio, creep_window) for stones of this mean size, m.
+CreepGoal settling_creep(const PushStudyConfig& config, double mean_size);
 
 // The work of lifting the stones by one mean stone size (m), J: the energy scale of "at rest".
 double lifting_energy(const std::vector<dem::ClumpSpec>& stones, double mean_size);

@@ -64,6 +64,10 @@ void read_preparation(const Section& s, PreparationSettings& p) {
                                       "longest deposition in simulated s");
   p.max_settling_time = s.number_or("max_settling_time", p.max_settling_time, kPositive,
                                     "longest settling stage in simulated s");
+  p.creep_ratio = s.number_or("creep_ratio", p.creep_ratio, kNonNegative,
+                              "stones' mean displacement over creep_window / their mean size that counts as settled (0: off)");
+  p.creep_window = s.number_or("creep_window", p.creep_window, kPositive,
+                               "simulated s over which the creep of the stones is measured");
   p.tamping_depth = s.number_or("tamping_depth", p.tamping_depth, {.min = 0.0, .max = 0.05},
                                 "depth in m the sleeper's sides and ends press into the bed as it grows to its size");
   p.tamping_time = s.number_or("tamping_time", p.tamping_time, kPositive,

@@ -36,6 +36,11 @@ struct PreparationSettings {
   double equilibrium_ratio = 1e-3;    // the bed is settled when the ratio is below this
   double max_deposition_time = 1.5;   // s of simulated time, a limit
   double max_settling_time = 1.0;     // s, a limit for each settling stage
+  // A settling stage also ends when the kinetic condition holds and the stones' mean
+  // displacement over `creep_window` (s) is below creep_ratio times their mean size
+  // (stage_runner.hpp); 0 leaves the force ratio as the only criterion.
+  double creep_ratio = 0.0;
+  double creep_window = 0.05;
   // m: the sleeper is cut into the bed this much shorter and narrower on each side, then grows
   // to its size over `tamping_time` (s), pushing the stones beside it into the cribs and
   // shoulders, packing them against it; 0 cuts the full size out and leaves the gaps.

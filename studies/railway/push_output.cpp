@@ -49,6 +49,7 @@ std::vector<std::pair<std::string, double>> model_numbers(const ModelReport& m) 
     v.push_back({"resettle_simulated_time", m.resettling->simulated_time});
     v.push_back({"resettle_force_ratio", m.resettling->unbalanced_force_ratio});
     v.push_back({"resettle_settled", m.resettling->settled ? 1.0 : 0.0});
+    v.push_back({"resettle_settled_by_creep", m.resettling->settled_by_creep ? 1.0 : 0.0});
     if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
       v.push_back({"resettle_sleeper_rise", *m.resettling->sleeper_base - *m.resettling->sleeper_base_start});
   }
@@ -194,7 +195,9 @@ void print_push_summary(std::ostream& out, const PushResult& r, const Packing& p
   if (m.resettling) {
     row("  conversion + settling, wall time", scene::format_duration(m.resettling->wall_seconds));
     row("  settled to force ratio", fmt::format("{:.2e}{}", m.resettling->unbalanced_force_ratio,
-                                                   m.resettling->settled ? "" : " (time limit)"));
+                                                   !m.resettling->settled           ? " (time limit)"
+                                                   : m.resettling->settled_by_creep ? " (settled by creep)"
+                                                                                    : ""));
     if (m.resettling->sleeper_base && m.resettling->sleeper_base_start)
       row("  sleeper rose while settling (mm)",
           fmt::format("{:+.3f}", (*m.resettling->sleeper_base - *m.resettling->sleeper_base_start) * 1e3));

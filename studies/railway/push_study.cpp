@@ -90,7 +90,7 @@ void print_preparation(std::ostream& out, const Packing& p, const PreparationRep
              "unbalanced ratio", "settled", "wall", "sleeper base (m)");
   for (const auto& s : r.stages)
     fmt::print(out, "  {:<{}} {:>12.4f} {:>10} {:>16.2e} {:>9} {:>12} {:>16}\n", s.name, name_width, s.simulated_time,
-               s.steps, s.unbalanced_force_ratio, s.settled ? "yes" : "NO", scene::format_duration(s.wall_seconds),
+               s.steps, s.unbalanced_force_ratio, !s.settled ? "NO" : s.settled_by_creep ? "by creep" : "yes", scene::format_duration(s.wall_seconds),
                s.sleeper_base ? fmt::format("{:.5f}", *s.sleeper_base) : "-");
   fmt::print(out, "  sleeper base at z = {:.4f} m (design {:.4f} m)\n", dem::box_bottom(p.sleeper),
              p.config.geometry.sleeper_base());

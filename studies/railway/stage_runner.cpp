@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
+#include <optional>
+#include <stdexcept>
 
 #include "studies/scene/progress.hpp"
 
@@ -13,12 +16,37 @@ namespace {
 
 constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate printed at the start
 
+// The stones' positions at the last checks of one creep window, oldest first: their mean
+// displacement between the oldest kept and now, over the length scale.
+class CreepMeter {
+ public:
+  CreepMeter(const CreepGoal& goal, std::int64_t checks_per_window)
+      : goal_(goal), kept_(static_cast<std::size_t>(checks_per_window) + 1) {}
+
+  double record(const dem::Simulation& sim) {
+    if (positions_.size() == kept_) positions_.pop_front();
+    positions_.push_back(sim.bodies().position);
+    const auto& first = positions_.front();
+    const auto& now = positions_.back();
+    double sum = 0.0;
+    for (std::size_t b = 0; b < now.size(); ++b) sum += sim.domain().nearest_image(now[b] - first[b]).norm();
+    return sum / static_cast<double>(std::max<std::size_t>(1, now.size())) / goal_.length_scale;
+  }
+  // True once the positions span the whole window.
+  bool full() const { return positions_.size() == kept_; }
+
+ private:
+  CreepGoal goal_;
+  std::size_t kept_;
+  std::deque<std::vector<dem::Vec3>> positions_;
+};
+
 }  // namespace
 
 StageReport run_until_settled(dem::Simulation& sim, const std::string& name, double ratio_target,
                               double energy_scale, double max_time, bool quiet, RestCriterion criterion,
                               dem::StateFile* frames, double frame_interval,
-                              double check_interval, const StageDrive& drive) {
+                              double check_interval, const StageDrive& drive, const CreepGoal& creep) {
   StageReport r;
   r.name = name;
   const auto start = std::chrono::steady_clock::now();
@@ -30,6 +58,11 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
   const std::int64_t frame_every = std::max<std::int64_t>(1, std::llround(frame_interval / sim.time_step()));
   if (frames) frames->write_frame(sim);
   int below = 0;
+  std::optional<CreepMeter> creep_meter;
+  if (creep.active() && criterion == RestCriterion::kForcesAndEnergy) {
+    if (!(creep.length_scale > 0.0)) throw std::invalid_argument("run_until_settled: a creep goal needs a length scale");
+    creep_meter.emplace(creep, std::max<std::int64_t>(1, std::llround(creep.window / (every * sim.time_step()))));
+  }
   for (std::int64_t k = 1; k <= limit; ++k) {
     if (drive) drive(sim, static_cast<double>(k - 1) * sim.time_step());
     sim.step();
@@ -54,10 +87,19 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
     r.check_kinetic_ratio.push_back(kinetic);
     if (!sim.boxes().empty()) r.check_sleeper_base.push_back(dem::box_bottom(sim.boxes()[0]));
     below = criterion != RestCriterion::kFixedTime && forces_balanced && kinetic < ratio_target ? below + 1 : 0;
-    progress.update(sim.time() - t0, fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e})",
-                                                 r.unbalanced_force_ratio, kinetic, ratio_target));
-    if (below >= 2) {
+    bool crept_to_rest = false;
+    if (creep_meter) {
+      r.check_creep.push_back(creep_meter->record(sim));
+      crept_to_rest = creep_meter->full() && kinetic < ratio_target && r.check_creep.back() < creep.ratio;
+    }
+    progress.update(sim.time() - t0,
+                    fmt::format("unbalanced force ratio {:.2e}, kinetic/(M g d) {:.2e} (target {:.0e}){}",
+                                r.unbalanced_force_ratio, kinetic, ratio_target,
+                                creep_meter ? fmt::format(", creep {:.1e} (target {:.0e})", r.check_creep.back(), creep.ratio)
+                                            : std::string()));
+    if (below >= 2 || crept_to_rest) {
       r.settled = true;
+      r.settled_by_creep = below < 2;
       break;
     }
   }

@@ -53,6 +53,15 @@ TEST_CASE("a knob sets the config's own key, and the run's key and deposition fo
   // The config's own value leaves it as it is: a compare study's runs of it are found by their keys.
   CHECK(campaigns::with_knob(mini, knob("velocity"), mini.push.velocity).text == mini.text);
   CHECK(campaigns::with_knob(mini, knob("stiffness_scaling"), 1.0).text == mini.text);
+  // What acts after the deposition (the settling's criterion here) shares it; the model's
+  // prepared bed is its own.
+  std::string creeping_text = mini.text;
+  creeping_text.insert(creeping_text.find("[preparation]") + std::string("[preparation]").size(), "\ncreep_ratio = 2e-4");
+  const auto creeping = railway::parse_push_config(creeping_text, "creeping.toml");
+  REQUIRE(creeping.preparation.creep_ratio == 2e-4);
+  CHECK(campaigns::deposition_key(creeping, 1) == campaigns::deposition_key(mini, 1));
+  CHECK(campaigns::prepared_bed_key(creeping, model, 1) != campaigns::prepared_bed_key(mini, model, 1));
+  CHECK(campaigns::run_key(creeping, model, 1) != campaigns::run_key(mini, model, 1));
   const auto coarse = campaigns::with_knob(mini, knob("time_step_safety"), 0.6);
   CHECK(coarse.time_step_safety == 0.6);
   CHECK(campaigns::deposition_key(coarse, 1) != campaigns::deposition_key(mini, 1));
