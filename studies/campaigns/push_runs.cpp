@@ -162,10 +162,32 @@ railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, cons
   return c;
 }
 
-std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
+namespace {
+
+// The key a run had before keys hashed the config's meaning: a hash of its text as written.
+std::string text_run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
   const std::string what = model.text(config);
   const std::string hash =
       railway::config_hash(fmt::format("{}\n--model {}\n--seed {}\n", config.text, what, seed)).substr(0, 12);
+  return runs::folder_name(fmt::format("s{}-{}-{}", seed, what, hash));
+}
+
+}  // namespace
+
+std::string canonical_config_text(const railway::PushStudyConfig& config) {
+  toml::table table = toml::parse(config.text);
+  table.erase("name");
+  table.erase("seed");
+  std::ostringstream text;
+  text << table;
+  return text.str();
+}
+
+std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
+  const std::string what = model.text(config);
+  const std::string hash =
+      railway::config_hash(fmt::format("{}\n--model {}\n--seed {}\n", canonical_config_text(config), what, seed))
+          .substr(0, 12);
   return runs::folder_name(fmt::format("s{}-{}-{}", seed, what, hash));
 }
 
@@ -174,6 +196,7 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
   railway::PushStudyConfig c = with_model(config, model);
   c.seed = seed;
   const std::string key = run_key(config, model, seed);
+  store.adopt(text_run_key(config, model, seed), key);  // a store from before the keys' present form
   // Errors of the store itself (a full disk) stop the study; a run's own failure is recorded.
   const auto store_error = [](const std::exception& e) { return dynamic_cast<const fs::filesystem_error*>(&e); };
   return store.ensure(

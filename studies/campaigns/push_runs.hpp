@@ -39,8 +39,14 @@ Model parse_model(const std::string& text, const std::string& option);
 // The config with the model's [fidelity] written in.
 railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, const Model& model);
 
+// What the config says, in one form: its TOML table without `name` (a label) and `seed` (a run
+// has its own), serialised by toml++ (keys sorted, numbers in their shortest form). Comments,
+// layout, key order and how a number is typed (1e-3, 0.001) do not change it.
+std::string canonical_config_text(const railway::PushStudyConfig& config);
+
 // The run's key: seed, a readable form of the model, and a hash of everything that determines
-// the run (the config's text, the model, the seed).
+// the run (the canonical config text, the model, the seed). ensure_push_run moves a run found
+// under the key's earlier form (a hash of the config's text as written) to this one.
 std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed);
 
 // The store's key of the deposited bed a run of `config` on `seed` starts from (shared/KEY): a

@@ -100,7 +100,8 @@ const std::vector<KnobSpec>& trade_knobs() {
       {"time_step_safety", "fraction of the critical time step", "", true},
       {"velocity", "push velocity", "m/s", true},
       {"push_damping", "local damping of the stones while pushing", "", true},
-      {"stiffness_scaling", "factor on the stones' normal and shear stiffness", "", false}};
+      {"stiffness_scaling", "factor on the stones' normal and shear stiffness", "", false},
+      {"creep_ratio", "creep of the stones that ends a settling (0: the force ratio alone)", "", true}};
   return knobs;
 }
 
@@ -142,6 +143,7 @@ railway::PushStudyConfig with_knob(const railway::PushStudyConfig& config, const
   if (name == "time_step_safety") t.insert_or_assign("time_step_safety", value);
   else if (name == "velocity") subtable(t, "push").insert_or_assign("velocity", value);
   else if (name == "push_damping") subtable(t, "push").insert_or_assign("local_damping", value);
+  else if (name == "creep_ratio") subtable(t, "preparation").insert_or_assign("creep_ratio", value);
   else if (name == "stiffness_scaling") {
     // The stones' material written out whole (a [materials.ballast] table needs every key).
     const dem::Material& m = config.ballast;
@@ -166,6 +168,7 @@ double knob_value(const railway::PushStudyConfig& config, const KnobSpec& knob) 
   if (name == "time_step_safety") return config.time_step_safety;
   if (name == "velocity") return config.push.velocity;
   if (name == "push_damping") return config.push.local_damping;
+  if (name == "creep_ratio") return config.preparation.creep_ratio;
   return 1.0;  // stiffness_scaling: relative to the config's own stones
 }
 

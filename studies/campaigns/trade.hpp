@@ -30,7 +30,8 @@ struct KnobSpec {
 };
 // time_step_safety (the fraction of the critical step), velocity (the push's, m/s), push_damping
 // (local damping alpha of the stones while pushing), stiffness_scaling (the stones' kn and ks
-// times this factor; 1 is Table 1).
+// times this factor; 1 is Table 1), creep_ratio (the settling's creep criterion, [preparation];
+// 0, off, is the accurate end).
 const std::vector<KnobSpec>& trade_knobs();
 
 struct KnobValues {

@@ -103,7 +103,7 @@ void add_trade_command(CLI::App& app, Action& action) {
   command->add_option("config", o->config, "A preset (mini, study, standard, paper) or a study config file")->required();
   command->add_option("--knob", o->knobs,
                       "A knob and its values, NAME=V1,V2,...: time_step_safety, velocity (m/s), push_damping, "
-                      "stiffness_scaling; give --knob once per knob")
+                      "stiffness_scaling, creep_ratio; give --knob once per knob")
       ->required();
   command->add_option("--model", o->model, "The model every setting runs")->capture_default_str();
   command->add_option("--seeds", o->seeds, "Seeds: 1-3, 1,3,7 or 2-4,9")->capture_default_str();

@@ -98,14 +98,24 @@ std::string folder_name(const std::string& text) {
   return out;
 }
 
-void write_record(const fs::path& file, const RunRecord& r) {
+namespace {
+
+std::string record_text(const RunRecord& r) {
   toml::table labels, numbers;
   for (const auto& [name, value] : r.labels) labels.insert_or_assign(name, value);
   for (const auto& [name, value] : r.numbers) numbers.insert_or_assign(name, value);  // shortest round-trip form
   const toml::table record{{"key", r.key},         {"status", r.status}, {"message", r.message},
                            {"revision", r.revision}, {"labels", labels},   {"numbers", numbers}};
-  std::ofstream out(file);
+  std::ostringstream out;
   out << "# mfdem run record (studies/runs/run_store.hpp)\n" << record << "\n";
+  return out.str();
+}
+
+}  // namespace
+
+void write_record(const fs::path& file, const RunRecord& r) {
+  std::ofstream out(file);
+  out << record_text(r);
   if (!out) throw std::runtime_error(fmt::format("{}: could not be written", file.string()));
 }
 
@@ -247,6 +257,18 @@ RunStore::Outcome RunStore::ensure(const std::string& key, const std::string& re
   publish(work, run_folder(key));
   release(key);
   return Outcome::computed;
+}
+
+void RunStore::adopt(const std::string& old_key, const std::string& new_key) {
+  if (old_key == new_key || has(new_key) || !has(old_key) || !claim(new_key)) return;
+  if (!has(new_key) && has(old_key)) {
+    RunRecord record = read_record(run_folder(old_key) / "run.toml");
+    record.key = new_key;
+    write_whole(root_, run_folder(old_key) / "run.toml", record_text(record));
+    std::error_code ignored;  // another process moved it first: theirs stands
+    fs::rename(run_folder(old_key), run_folder(new_key), ignored);
+  }
+  release(new_key);
 }
 
 fs::path RunStore::ensure_shared(const std::string& key, const std::function<void(const fs::path&)>& make) {

@@ -81,6 +81,11 @@ class RunStore {
   std::filesystem::path ensure_shared(const std::string& key,
                                       const std::function<void(const std::filesystem::path& work)>& make);
 
+  // Moves a run published under `old_key` to `new_key` (a store made before its keys changed
+  // form): its record's key rewritten in place, then the folder renamed whole, under new_key's
+  // claim. Nothing when new_key is published or claimed, or old_key is not published.
+  void adopt(const std::string& old_key, const std::string& new_key);
+
   // Every published record, in key order.
   std::vector<RunRecord> records() const;
   // index.csv from the run folders (written beside and renamed over the old one): key, status,

@@ -110,14 +110,26 @@ TEST_CASE("models are policies with their parameters and balls' material, unknow
 TEST_CASE("a run's key changes with the config, the model, its balls' material and the seed, and names a folder",
           "[campaigns][runs]") {
   const auto config = mfdem::railway::load_push_config("mini");
+  // What the config says, not how it is written: a comment, the name, the config's own seed key
+  // and the form of a number leave the key as it is; a value does not.
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text = config.text;
+    REQUIRE(text.find(from) != std::string::npos);
+    return text.replace(text.find(from), from.size(), to);
+  };
+  auto reworded = config;
+  reworded.text = "# another comment\n" + replaced("name = \"mini\"\nseed = 1\ntime_step_safety = 0.4",
+                                                   "seed = 7\ntime_step_safety = 4e-1\nname = \"renamed\"");
   auto other = config;
-  other.text += "\n# a comment changes the text\n";
+  other.text = replaced("time_step_safety = 0.4", "time_step_safety = 0.3");
   const Model layer{"layer-by-height:h_fraction=0.5", 0.2, std::nullopt};
   Model rougher = layer;
   rougher.rolling_friction = 0.25;
   const std::string key = run_key(config, layer, 1);
   CHECK(key == run_key(config, layer, 1));
   CHECK(key != run_key(config, layer, 2));
+  CHECK(run_key(reworded, layer, 1) == key);
+  CHECK(canonical_config_text(reworded) == canonical_config_text(config));
   CHECK(key != run_key(other, layer, 1));
   CHECK(key != run_key(config, rougher, 1));
   CHECK(key != run_key(config, Model{}, 1));

@@ -55,10 +55,9 @@ TEST_CASE("a knob sets the config's own key, and the run's key and deposition fo
   CHECK(campaigns::with_knob(mini, knob("stiffness_scaling"), 1.0).text == mini.text);
   // What acts after the deposition (the settling's criterion here) shares it; the model's
   // prepared bed is its own.
-  std::string creeping_text = mini.text;
-  creeping_text.insert(creeping_text.find("[preparation]") + std::string("[preparation]").size(), "\ncreep_ratio = 2e-4");
-  const auto creeping = railway::parse_push_config(creeping_text, "creeping.toml");
+  const auto creeping = campaigns::with_knob(mini, knob("creep_ratio"), 2e-4);
   REQUIRE(creeping.preparation.creep_ratio == 2e-4);
+  CHECK(creeping.preparation.equilibrium_ratio == mini.preparation.equilibrium_ratio);
   CHECK(campaigns::deposition_key(creeping, 1) == campaigns::deposition_key(mini, 1));
   CHECK(campaigns::prepared_bed_key(creeping, model, 1) != campaigns::prepared_bed_key(mini, model, 1));
   CHECK(campaigns::run_key(creeping, model, 1) != campaigns::run_key(mini, model, 1));

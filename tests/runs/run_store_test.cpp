@@ -97,6 +97,37 @@ TEST_CASE("a run is computed once: a second study finds it and computes nothing"
   CHECK(fs::is_empty(dir.path() / "store" / "claims"));
 }
 
+TEST_CASE("a run under its key's earlier form is adopted whole: files, numbers, its record's new key", "[runs]") {
+  const mfdem::test::TempDir dir;
+  RunStore store(dir.path() / "store");
+  const auto compute = [&](const fs::path& work) {
+    std::ofstream(work / "push.h5") << "data";
+    return numbered(42.0);
+  };
+  REQUIRE(store.ensure("old-form", "rev1", compute) == RunStore::Outcome::computed);
+  store.adopt("old-form", "new-form");
+  CHECK_FALSE(store.has("old-form"));
+  const auto record = store.find("new-form");
+  REQUIRE(record);
+  CHECK(record->key == "new-form");
+  CHECK(record->revision == "rev1");
+  CHECK(record->number("peak_force") == 42.0);
+  CHECK(text_of(store.run_folder("new-form") / "push.h5") == "data");
+  int calls = 0;
+  CHECK(store.ensure("new-form", "rev2", [&](const fs::path& w) { ++calls; return compute(w); }) ==
+        RunStore::Outcome::found);
+  CHECK(calls == 0);
+  // Nothing to adopt, or the new key published already: nothing moves.
+  store.adopt("absent", "other");
+  CHECK_FALSE(store.has("other"));
+  REQUIRE(store.ensure("second-old", "rev1", compute) == RunStore::Outcome::computed);
+  store.adopt("second-old", "new-form");
+  CHECK(store.has("second-old"));
+  CHECK(store.find("new-form")->revision == "rev1");
+  CHECK(fs::is_empty(dir.path() / "store" / "work"));
+  CHECK(fs::is_empty(dir.path() / "store" / "claims"));
+}
+
 TEST_CASE("a failing run is recorded with its message and the others complete", "[runs]") {
   const mfdem::test::TempDir dir;
   RunStore store(dir.path() / "store");
