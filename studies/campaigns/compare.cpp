@@ -220,8 +220,8 @@ void print_compare_table(std::ostream& out, const CompareTable& t) {
   std::string reference = "-";
   for (const auto& r : t.rows)
     if (r.reference) reference = r.model;
-  fmt::print(out, "\nCompare: {} on seeds {} ({} seeds); the reference is {}\n", t.config, fmt::join(t.seeds, ","),
-             t.seeds.size(), reference);
+  fmt::print(out, "\nCompare: {} on seeds {} ({} seed{}); the reference is {}\n", t.config, fmt::join(t.seeds, ","),
+             t.seeds.size(), t.seeds.size() == 1 ? "" : "s", reference);
   fmt::print(out, "\nCost (means over seeds; the shared deposition took {} per seed)\n",
              scene::format_duration(t.deposition_wall));
   fmt::print(out, "  {:<{}} {:>5} {:>6} {:>6} {:>9} {:>10} {:>12} {:>10} {:>8} {:>8}\n", "model", width, "runs", "clumps",

@@ -271,8 +271,8 @@ TradeTable trade_table(const runs::RunStore& store, const TradeRequest& request,
 
 void print_trade_table(std::ostream& out, const TradeTable& t) {
   const CompareTable& c = t.compare;
-  fmt::print(out, "\nTrade: {} on seeds {} ({} seeds); {}\n", c.config, fmt::join(c.seeds, ","), c.seeds.size(),
-             t.rows.front().setting.label);
+  fmt::print(out, "\nTrade: {} on seeds {} ({} seed{}); {}\n", c.config, fmt::join(c.seeds, ","), c.seeds.size(),
+             c.seeds.size() == 1 ? "" : "s", t.rows.front().setting.label);
   std::size_t width = 8;
   for (const auto& r : t.rows) width = std::max(width, r.setting.label.size());
   width = std::min<std::size_t>(width, 40);
