@@ -1,31 +1,22 @@
 // `mfdem compare`: models on the same beds, the trade table over seeds (studies/campaigns/compare.hpp).
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 #include "studies/campaigns/compare.hpp"
 #include "studies/campaigns/compare_figures.hpp"
 #include "studies/cli/campaign_share.hpp"
+#include "studies/cli/campaign_workers.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
 #include "studies/cli/version.hpp"
 #include "studies/config/config_error.hpp"
 #include "studies/scene/progress.hpp"
-
-extern char** environ;
 
 namespace mfdem::cli {
 namespace {
@@ -74,28 +65,15 @@ campaigns::CompareRequest make_request(const CompareOptions& o) {
 }
 
 // The other processes of --jobs: this command again, one job each, writing into the same store.
+// Each starts at another seed and skips runs another process holds (the store's claims).
 std::vector<pid_t> spawn_workers(const CompareOptions& o, int count) {
   std::vector<pid_t> workers;
-  const fs::path logs = o.common.out / "logs";
-  fs::create_directories(logs);
   for (int k = 0; k < count; ++k) {
-    std::vector<std::string> args = {"mfdem",   "compare",  o.config,        "--models", o.models,
-                                     "--seeds", o.seeds,    "--out",         o.common.out.string(),
-                                     "--jobs",  "1",        "--threads",     std::to_string(o.common.threads),
-                                     "--worker", std::to_string(k + 1), "--quiet"};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t files;
-    posix_spawn_file_actions_init(&files);
-    const std::string log = (logs / fmt::format("worker-{}.log", k + 1)).string();
-    posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
-    pid_t pid = 0;
-    const int error = posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&files);
-    if (error != 0) throw std::runtime_error(fmt::format("could not start worker {} of --jobs ({})", k + 1, error));
-    workers.push_back(pid);
+    const std::vector<std::string> args = {"compare", o.config, "--models", o.models, "--seeds", o.seeds,
+                                           "--out", o.common.out.string(), "--jobs", "1", "--threads",
+                                           std::to_string(o.common.threads), "--worker", std::to_string(k + 1),
+                                           "--quiet"};
+    workers.push_back(spawn_worker(args, o.common.out / "logs" / fmt::format("worker-{}.log", k + 1), k + 1));
   }
   return workers;
 }
@@ -134,14 +112,7 @@ int compare(CompareOptions o) {
     progress.update(double(done - done_before), fmt::format("{} of {} runs in the store", done, total));
   };
   if (o.jobs > 1 && done_before < total) {
-    const std::vector<pid_t> workers = spawn_workers(o, std::min(o.jobs, total - done_before));
-    for (std::size_t finished = 0; finished < workers.size();) {
-      std::this_thread::sleep_for(std::chrono::seconds(1));
-      finished = 0;
-      for (pid_t w : workers) finished += kill(w, 0) != 0 || waitpid(w, nullptr, WNOHANG) == w ? 1 : 0;
-      report(done_in_store());
-    }
-    for (pid_t w : workers) waitpid(w, nullptr, 0);
+    wait_for_workers(spawn_workers(o, std::min(o.jobs, total - done_before)), [&] { report(done_in_store()); });
   }
   // This process then (or alone) runs whatever is left: a worker's run that failed to start.
   campaigns::run_compare(store, request, context, [&] { report(done_in_store()); }, 0, share.slice);

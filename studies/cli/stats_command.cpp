@@ -11,6 +11,7 @@
 #include "studies/campaigns/stats.hpp"
 #include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/campaign_share.hpp"
+#include "studies/cli/campaign_workers.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -37,7 +38,17 @@ struct StatsOptions {
   std::size_t resamples = 10000;
   bool figures = true;
   std::string slice;  // K/N: this process's share (a job array's task)
+  int jobs = 1;
+  bool worker = false;  // a process of --jobs: computes its slice, writes no tables
 };
+
+// This command line again, for the workers of --jobs (without --slice and --jobs).
+std::vector<std::string> worker_args(const StatsOptions& o) {
+  std::vector<std::string> args = {"stats", o.config, "--model", o.model, "--seeds", o.seeds, "--threads",
+                                   std::to_string(o.common.threads), "--out", o.common.out.string()};
+  if (!o.control.empty()) args.insert(args.end(), {"--control", o.control, "--control-seeds", o.control_seeds});
+  return args;
+}
 
 campaigns::StatsRequest make_request(const StatsOptions& o, const CampaignShare& share) {
   campaigns::StatsRequest r;
@@ -57,9 +68,13 @@ campaigns::StatsRequest make_request(const StatsOptions& o, const CampaignShare&
 }
 
 int stats(StatsOptions o) {
-  const CampaignShare share = campaign_share(o.slice, 1);
-  const campaigns::StatsRequest request = make_request(o, share);  // every input checked before any work
-  if (!share.writes_tables()) o.common.quiet = true;
+  CampaignShare share = campaign_share(o.slice, o.jobs);
+  if (o.jobs > 1 && o.until_width > 0.0)
+    throw config::ConfigError(fmt::format("--jobs {}: --until-width adds one seed at a time from the runs before it; "
+                                          "run it with --jobs 1", o.jobs));
+  if (o.jobs > 1) share.slice = {0, static_cast<std::size_t>(o.jobs)};
+  campaigns::StatsRequest request = make_request(o, share);  // every input checked before any work
+  if (!share.writes_tables() || o.worker) o.common.quiet = true;
   runs::RunStore store(o.common.out);
   if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
     fmt::print(std::cerr, "cleared {} runs in progress left by stopped processes\n", cleared);
@@ -79,13 +94,25 @@ int stats(StatsOptions o) {
                o.common.out.string());
   // The ETA counts runs; with --until-width the plan is the budget, an upper bound.
   scene::Progress progress("stats", double(planned), o.common.quiet);
-  const std::vector<std::uint64_t> seeds = campaigns::run_stats(
-      store, request,
-      [&](const campaigns::Model& model, std::uint64_t seed) { campaigns::ensure_push_run(store, request.config, model, seed, context); },
-      [&](std::size_t done, std::size_t) { progress.update(double(done), fmt::format("{} runs made or found", done)); });
+  const auto run = [&] {
+    return campaigns::run_stats(
+        store, request,
+        [&](const campaigns::Model& model, std::uint64_t seed) {
+          campaigns::ensure_push_run(store, request.config, model, seed, context);
+        },
+        [&](std::size_t done, std::size_t) { progress.update(double(done), fmt::format("{} runs made or found", done)); });
+  };
+  const std::vector<pid_t> workers =
+      o.jobs > 1 ? spawn_slice_workers(worker_args(o), o.jobs, o.common.out) : std::vector<pid_t>{};
+  std::vector<std::uint64_t> seeds = run();
+  wait_for_workers(workers, {});
+  if (o.jobs > 1) {  // then every run, found (or computed where a worker left one)
+    request.slice = {};
+    seeds = run();
+  }
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
-  if (!share.writes_tables()) return 0;
+  if (!share.writes_tables() || o.worker) return 0;
   std::size_t missing = 0;
   for (auto seed : request.seeds) missing += store.has(campaigns::run_key(request.config, request.model, seed)) ? 0 : 1;
   for (auto seed : request.control_seeds)
@@ -144,6 +171,7 @@ void add_stats_command(CLI::App& app, Action& action) {
       ->capture_default_str();
   command->add_flag("!--no-figures", o->figures, "Write the tables only (no stats.h5, no PNG/SVG)");
   add_slice_option(*command, o->slice);
+  add_jobs_options(*command, o->jobs, o->worker);
   add_common_options(*command, o->common);
   command->footer(
       "Each seed is its own packing (deposition); every run is a folder OUT/runs/KEY of the run store that\n"

@@ -9,6 +9,7 @@
 #include "studies/campaigns/trade.hpp"
 #include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/campaign_share.hpp"
+#include "studies/cli/campaign_workers.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -29,9 +30,20 @@ struct TradeOptions {
   std::string seeds = "1-3";
   double tolerance = 5.0;  // %
   std::string slice;
+  int jobs = 1;
+  bool worker = false;  // a process of --jobs: computes its slice, writes no tables
   bool figures = true;
   fs::path compare_study;  // an `mfdem compare` folder whose models the figure sets beside the knobs
 };
+
+// This command line again, for the workers of --jobs (without --slice and --jobs).
+std::vector<std::string> worker_args(const TradeOptions& o) {
+  std::vector<std::string> args = {"trade", o.config, "--model", o.model, "--seeds", o.seeds, "--tolerance",
+                                   fmt::format("{}", o.tolerance), "--threads", std::to_string(o.common.threads),
+                                   "--out", o.common.out.string()};
+  for (const auto& k : o.knobs) args.insert(args.end(), {"--knob", k});
+  return args;
+}
 
 int trade(TradeOptions o) {
   // Every input checked before any work: the knobs, and each setting's config (a refused one is
@@ -48,8 +60,8 @@ int trade(TradeOptions o) {
     request.knobs.push_back(std::move(knob));
   }
   const campaigns::TradePlan plan = campaigns::plan_trade(request);
-  const CampaignShare share = campaign_share(o.slice, 1);
-  if (!share.writes_tables()) o.common.quiet = true;
+  CampaignShare share = campaign_share(o.slice, o.jobs);
+  if (!share.writes_tables() || o.worker) o.common.quiet = true;
 
   runs::RunStore store(o.common.out);
   if (const int cleared = store.clear_abandoned(); cleared > 0 && !o.common.quiet)
@@ -63,16 +75,24 @@ int trade(TradeOptions o) {
     for (const auto& s : plan.settings)
       if (!s.refused.empty()) fmt::print(std::cerr, "  {} is refused before it runs: {}\n", s.label, s.refused);
   }
+  const auto keys = campaigns::run_keys(plan.compare);
+  const auto in_store = [&] {
+    return static_cast<std::size_t>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
+  };
   scene::Progress progress("trade", double(total), o.common.quiet);
-  std::size_t done = 0;
-  campaigns::run_compare(store, plan.compare, context,
-                         [&] { progress.update(double(++done), fmt::format("{} runs made or found", done)); }, 0,
-                         share.slice);
+  const auto report = [&] { progress.update(double(in_store()), fmt::format("{} of {} runs in the store", in_store(), total)); };
+  std::vector<pid_t> workers;
+  if (o.jobs > 1) {
+    workers = spawn_slice_workers(worker_args(o), o.jobs, o.common.out);
+    share.slice = {0, static_cast<std::size_t>(o.jobs)};
+  }
+  campaigns::run_compare(store, plan.compare, context, report, 0, share.slice);
+  wait_for_workers(workers, report);
+  if (o.jobs > 1) campaigns::run_compare(store, plan.compare, context, report);  // what a worker left
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
-  if (!share.writes_tables()) return 0;
-  const auto keys = campaigns::run_keys(plan.compare);
-  const auto missing = std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return !store.has(k); });
+  if (!share.writes_tables() || o.worker) return 0;
+  const auto missing = keys.size() - in_store();
   if (other_slices_pending(share, static_cast<std::size_t>(missing), "trade")) return 0;
   store.write_index();
   const campaigns::TradeTable table = campaigns::trade_table(store, request, plan);
@@ -111,6 +131,7 @@ void add_trade_command(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   add_slice_option(*command, o->slice);
+  add_jobs_options(*command, o->jobs, o->worker);
   command->add_option("--compare-study", o->compare_study,
                       "The folder of an `mfdem compare` study of the same config: its models drawn on the same axes")
       ->check(CLI::ExistingDirectory);

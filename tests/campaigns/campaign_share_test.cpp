@@ -67,6 +67,25 @@ TEST_CASE("compare split over two --slice processes makes the serial study's sto
   CHECK_THAT(refused.err, Contains("--jobs 2") && Contains("--slice"));
 }
 
+TEST_CASE("stats with --jobs 2 makes the serial study's store and table", "[campaigns][cli][share][stats]") {
+  const test::TempDir dir;
+  const auto config = dir.write("micro.toml", test::micro_bed());
+  const auto study = [&](const std::string& out, const std::string& jobs) {
+    return std::vector<std::string>{"stats",     config.string(), "--seeds", "1-3",        "--threads", "1",
+                                    "--jobs",    jobs,            "--out",   (dir.path() / out).string(),
+                                    "--no-figures"};
+  };
+  const auto serial = test::run_mfdem(study("serial", "1"));
+  INFO(serial.err);
+  REQUIRE(serial.status == 0);
+  const auto parallel = test::run_mfdem(study("parallel", "2"));
+  INFO(parallel.err);
+  REQUIRE(parallel.status == 0);
+  CHECK(fs::exists(dir.path() / "parallel" / "logs" / "worker-1.log"));
+  CHECK(test::without_wall_times(test::text_of(dir.path() / "parallel" / "stats.csv")) ==
+        test::without_wall_times(test::text_of(dir.path() / "serial" / "stats.csv")));
+}
+
 #ifdef MFDEM_MPI
 TEST_CASE("compare over two MPI ranks makes the serial study's store and table", "[campaigns][cli][share][mpi]") {
   const test::TempDir dir;

@@ -56,6 +56,34 @@ TEST_CASE("trade runs each knob's settings against the reference, refuses those 
   CHECK(mfdem::test::text_of(fs::path(out) / "trade.csv") == csv);
 }
 
+TEST_CASE("trade with --jobs 2 computes the serial study's runs in two processes and writes its table once",
+          "[campaigns][cli][trade]") {
+  const mfdem::test::TempDir dir;
+  const auto config = dir.write("micro.toml", mfdem::test::micro_bed());
+  const auto study = [&](const std::string& out, const std::string& jobs) {
+    return std::vector<std::string>{"trade",  config.string(), "--knob", "velocity=0.05,0.1", "--seeds",
+                                    "1",      "--threads",     "1",      "--jobs",            jobs,
+                                    "--out",  (dir.path() / out).string()};
+  };
+  const auto serial = run_mfdem(study("serial", "1"));
+  REQUIRE(serial.status == 0);
+  const auto parallel = run_mfdem(study("parallel", "2"));
+  INFO(parallel.err);
+  REQUIRE(parallel.status == 0);
+  CHECK_THAT(parallel.out, Contains("velocity=0.1") && Contains("Stability edges"));
+  // The worker ran slice 1/2 into the same store and wrote no table of its own.
+  const std::string worker_log = mfdem::test::text_of(dir.path() / "parallel" / "logs" / "worker-1.log");
+  CHECK_THAT(worker_log, !Contains("Stability edges"));
+  const auto runs_of = [&](const std::string& out) {
+    std::map<std::string, double> peaks;
+    for (const auto& r : mfdem::runs::RunStore(dir.path() / out).records()) peaks[r.key] = *r.number("peak_force");
+    return peaks;
+  };
+  const auto serial_runs = runs_of("serial");
+  REQUIRE(serial_runs.size() == 2);
+  CHECK(runs_of("parallel") == serial_runs);  // the same keys, bitwise the same peaks
+}
+
 TEST_CASE("trade refuses unknown knobs, a knob given twice and a refused reference before any run", "[cli][trade]") {
   const mfdem::test::TempDir dir;
   mfdem::test::check_refused_before_any_run("trade", "mini", dir.path() / "trade", {

@@ -17,5 +17,7 @@ TEST_CASE("stats refuses bad models, seeds, widths and control variates", "[cli]
       {{"--control", "all-ball", "--seeds", "1-3", "--control-seeds", "2-9"}, {"lacks seeds 1 of --seeds"}},
       {{"--control", "all-clump", "--control-seeds", "1-9"}, {"--control all-clump", "the model itself"}},
       {{"--seed", "4"}, {"--seed 4", "--seeds"}},
+      {{"--jobs", "2", "--until-width", "5"}, {"--jobs 2", "--until-width", "--jobs 1"}},
+      {{"--jobs", "2", "--slice", "0/2"}, {"--jobs 2", "--slice"}},
   });
 }
