@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iostream>
 #include <sstream>
 
@@ -54,15 +55,27 @@ double deposition_wall(const fs::path& folder) {
 
 namespace {
 
-// What determines a bed: the config without its name and [push] (settings of the push alone,
-// which `mfdem trade` varies, share the seed's deposition and the model's prepared bed).
-std::string bed_text(const railway::PushStudyConfig& config) {
+// The config's TOML table without the top-level `keys`, serialised by toml++ (keys sorted,
+// numbers in their shortest form): one written form of what the rest says.
+std::string table_text_without(const railway::PushStudyConfig& config, std::initializer_list<const char*> keys) {
   toml::table table = toml::parse(config.text);
-  table.erase("name");
-  table.erase("push");
+  for (const char* key : keys) table.erase(key);
   std::ostringstream text;
   text << table;
   return text.str();
+}
+
+// What determines a bed: the config without its name and [push] (settings of the push alone,
+// which `mfdem trade` varies, share the seed's deposition and the model's prepared bed).
+std::string bed_text(const railway::PushStudyConfig& config) { return table_text_without(config, {"name", "push"}); }
+
+// A run's key from the text that stands for its config.
+std::string run_key_of(const std::string& config_text, const railway::PushStudyConfig& config, const Model& model,
+                       std::uint64_t seed) {
+  const std::string what = model.text(config);
+  const std::string hash =
+      railway::config_hash(fmt::format("{}\n--model {}\n--seed {}\n", config_text, what, seed)).substr(0, 12);
+  return runs::folder_name(fmt::format("s{}-{}-{}", seed, what, hash));
 }
 
 }  // namespace
@@ -162,33 +175,12 @@ railway::PushStudyConfig with_model(const railway::PushStudyConfig& config, cons
   return c;
 }
 
-namespace {
-
-// The key a run had before keys hashed the config's meaning: a hash of its text as written.
-std::string text_run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
-  const std::string what = model.text(config);
-  const std::string hash =
-      railway::config_hash(fmt::format("{}\n--model {}\n--seed {}\n", config.text, what, seed)).substr(0, 12);
-  return runs::folder_name(fmt::format("s{}-{}-{}", seed, what, hash));
-}
-
-}  // namespace
-
 std::string canonical_config_text(const railway::PushStudyConfig& config) {
-  toml::table table = toml::parse(config.text);
-  table.erase("name");
-  table.erase("seed");
-  std::ostringstream text;
-  text << table;
-  return text.str();
+  return table_text_without(config, {"name", "seed"});
 }
 
 std::string run_key(const railway::PushStudyConfig& config, const Model& model, std::uint64_t seed) {
-  const std::string what = model.text(config);
-  const std::string hash =
-      railway::config_hash(fmt::format("{}\n--model {}\n--seed {}\n", canonical_config_text(config), what, seed))
-          .substr(0, 12);
-  return runs::folder_name(fmt::format("s{}-{}-{}", seed, what, hash));
+  return run_key_of(canonical_config_text(config), config, model, seed);
 }
 
 runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::PushStudyConfig& config,
@@ -196,7 +188,8 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
   railway::PushStudyConfig c = with_model(config, model);
   c.seed = seed;
   const std::string key = run_key(config, model, seed);
-  store.adopt(text_run_key(config, model, seed), key);  // a store from before the keys' present form
+  // A store from before the keys' present form: the key hashed the config's text as written.
+  store.adopt(run_key_of(config.text, config, model, seed), key);
   // Errors of the store itself (a full disk) stop the study; a run's own failure is recorded.
   const auto store_error = [](const std::exception& e) { return dynamic_cast<const fs::filesystem_error*>(&e); };
   return store.ensure(

@@ -46,14 +46,22 @@ void wait_for_workers(const std::vector<pid_t>& workers, const std::function<voi
   for (pid_t w : workers) waitpid(w, nullptr, 0);
 }
 
-std::vector<pid_t> spawn_slice_workers(std::vector<std::string> args, int jobs, const fs::path& out) {
+void run_with_jobs(int jobs, const std::vector<std::string>& args, const fs::path& out,
+                   const campaigns::RunSlice& own, const std::function<void(const campaigns::RunSlice&)>& run,
+                   const std::function<void()>& poll) {
+  if (jobs <= 1) {
+    run(own);
+    return;
+  }
   std::vector<pid_t> workers;
   for (int k = 1; k < jobs; ++k) {
-    std::vector<std::string> own = args;
-    own.insert(own.end(), {"--slice", fmt::format("{}/{}", k, jobs), "--worker", "--quiet"});
-    workers.push_back(spawn_worker(own, out / "logs" / fmt::format("worker-{}.log", k), k));
+    std::vector<std::string> worker = args;
+    worker.insert(worker.end(), {"--slice", fmt::format("{}/{}", k, jobs), "--worker", "--quiet"});
+    workers.push_back(spawn_worker(worker, out / "logs" / fmt::format("worker-{}.log", k), k));
   }
-  return workers;
+  run({0, static_cast<std::size_t>(jobs)});
+  wait_for_workers(workers, poll);
+  run({});
 }
 
 void add_jobs_options(CLI::App& command, int& jobs, bool& worker) {

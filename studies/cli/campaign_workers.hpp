@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "studies/campaigns/run_slice.hpp"
+
 namespace mfdem::cli {
 
 // mfdem (this executable) with `args`, its output into `log`; throws naming worker `number` when
@@ -19,10 +21,15 @@ pid_t spawn_worker(const std::vector<std::string>& args, const std::filesystem::
 // Waits for every worker, calling `poll` about once a second meanwhile.
 void wait_for_workers(const std::vector<pid_t>& workers, const std::function<void()>& poll);
 
-// --jobs N of a command with --slice (stats, trade): the other N - 1 slices k/N (k = 1 .. N-1),
+// --jobs N of a command with --slice (stats, trade): `run(slice)` computes a slice of the
+// campaign's runs into the store at `out`. With N > 1, the other N - 1 slices k/N run in workers,
 // each `args` (the command and its options, without --slice and --jobs) with --slice k/N --worker
-// --quiet, logged to OUT/logs/worker-K.log. This process computes slice 0/N.
-std::vector<pid_t> spawn_slice_workers(std::vector<std::string> args, int jobs, const std::filesystem::path& out);
+// --quiet, logged to OUT/logs/worker-K.log; this process runs slice 0/N, waits for them (`poll`
+// about once a second), then runs the whole campaign, which finds every run (and computes one a
+// worker left). With N = 1, `run(own)`: the process's own share (--slice, an MPI rank, or all).
+void run_with_jobs(int jobs, const std::vector<std::string>& args, const std::filesystem::path& out,
+                   const campaigns::RunSlice& own, const std::function<void(const campaigns::RunSlice&)>& run,
+                   const std::function<void()>& poll);
 
 // --jobs on a campaign command, and the hidden --worker flag its workers are started with.
 void add_jobs_options(CLI::App& command, int& jobs, bool& worker);

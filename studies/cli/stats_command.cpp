@@ -68,11 +68,10 @@ campaigns::StatsRequest make_request(const StatsOptions& o, const CampaignShare&
 }
 
 int stats(StatsOptions o) {
-  CampaignShare share = campaign_share(o.slice, o.jobs);
+  const CampaignShare share = campaign_share(o.slice, o.jobs);
   if (o.jobs > 1 && o.until_width > 0.0)
     throw config::ConfigError(fmt::format("--jobs {}: --until-width adds one seed at a time from the runs before it; "
                                           "run it with --jobs 1", o.jobs));
-  if (o.jobs > 1) share.slice = {0, static_cast<std::size_t>(o.jobs)};
   campaigns::StatsRequest request = make_request(o, share);  // every input checked before any work
   if (!share.writes_tables() || o.worker) o.common.quiet = true;
   runs::RunStore store(o.common.out);
@@ -94,22 +93,16 @@ int stats(StatsOptions o) {
                o.common.out.string());
   // The ETA counts runs; with --until-width the plan is the budget, an upper bound.
   scene::Progress progress("stats", double(planned), o.common.quiet);
-  const auto run = [&] {
-    return campaigns::run_stats(
+  std::vector<std::uint64_t> seeds;
+  run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice, [&](const campaigns::RunSlice& slice) {
+    request.slice = slice;
+    seeds = campaigns::run_stats(
         store, request,
         [&](const campaigns::Model& model, std::uint64_t seed) {
           campaigns::ensure_push_run(store, request.config, model, seed, context);
         },
         [&](std::size_t done, std::size_t) { progress.update(double(done), fmt::format("{} runs made or found", done)); });
-  };
-  const std::vector<pid_t> workers =
-      o.jobs > 1 ? spawn_slice_workers(worker_args(o), o.jobs, o.common.out) : std::vector<pid_t>{};
-  std::vector<std::uint64_t> seeds = run();
-  wait_for_workers(workers, {});
-  if (o.jobs > 1) {  // then every run, found (or computed where a worker left one)
-    request.slice = {};
-    seeds = run();
-  }
+  }, {});
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables() || o.worker) return 0;

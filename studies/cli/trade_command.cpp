@@ -60,7 +60,7 @@ int trade(TradeOptions o) {
     request.knobs.push_back(std::move(knob));
   }
   const campaigns::TradePlan plan = campaigns::plan_trade(request);
-  CampaignShare share = campaign_share(o.slice, o.jobs);
+  const CampaignShare share = campaign_share(o.slice, o.jobs);
   if (!share.writes_tables() || o.worker) o.common.quiet = true;
 
   runs::RunStore store(o.common.out);
@@ -80,15 +80,13 @@ int trade(TradeOptions o) {
     return static_cast<std::size_t>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
   };
   scene::Progress progress("trade", double(total), o.common.quiet);
-  const auto report = [&] { progress.update(double(in_store()), fmt::format("{} of {} runs in the store", in_store(), total)); };
-  std::vector<pid_t> workers;
-  if (o.jobs > 1) {
-    workers = spawn_slice_workers(worker_args(o), o.jobs, o.common.out);
-    share.slice = {0, static_cast<std::size_t>(o.jobs)};
-  }
-  campaigns::run_compare(store, plan.compare, context, report, 0, share.slice);
-  wait_for_workers(workers, report);
-  if (o.jobs > 1) campaigns::run_compare(store, plan.compare, context, report);  // what a worker left
+  const auto report = [&] {
+    const std::size_t done = in_store();
+    progress.update(double(done), fmt::format("{} of {} runs in the store", done, total));
+  };
+  run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice,
+                [&](const campaigns::RunSlice& slice) { campaigns::run_compare(store, plan.compare, context, report, 0, slice); },
+                report);
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables() || o.worker) return 0;

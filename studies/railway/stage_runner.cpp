@@ -20,8 +20,8 @@ constexpr std::int64_t kEstimateSteps = 200;  // steps timed for the estimate pr
 // displacement between the oldest kept and now, over the length scale.
 class CreepMeter {
  public:
-  CreepMeter(const CreepGoal& goal, std::int64_t checks_per_window)
-      : goal_(goal), kept_(static_cast<std::size_t>(checks_per_window) + 1) {}
+  CreepMeter(double length_scale, std::int64_t checks_per_window)
+      : length_scale_(length_scale), kept_(static_cast<std::size_t>(checks_per_window) + 1) {}
 
   double record(const dem::Simulation& sim) {
     if (positions_.size() == kept_) positions_.pop_front();
@@ -30,13 +30,13 @@ class CreepMeter {
     const auto& now = positions_.back();
     double sum = 0.0;
     for (std::size_t b = 0; b < now.size(); ++b) sum += sim.domain().nearest_image(now[b] - first[b]).norm();
-    return sum / static_cast<double>(std::max<std::size_t>(1, now.size())) / goal_.length_scale;
+    return sum / static_cast<double>(std::max<std::size_t>(1, now.size())) / length_scale_;
   }
   // True once the positions span the whole window.
   bool full() const { return positions_.size() == kept_; }
 
  private:
-  CreepGoal goal_;
+  double length_scale_;  // m
   std::size_t kept_;
   std::deque<std::vector<dem::Vec3>> positions_;
 };
@@ -61,7 +61,7 @@ StageReport run_until_settled(dem::Simulation& sim, const std::string& name, dou
   std::optional<CreepMeter> creep_meter;
   if (creep.active() && criterion == RestCriterion::kForcesAndEnergy) {
     if (!(creep.length_scale > 0.0)) throw std::invalid_argument("run_until_settled: a creep goal needs a length scale");
-    creep_meter.emplace(creep, std::max<std::int64_t>(1, std::llround(creep.window / (every * sim.time_step()))));
+    creep_meter.emplace(creep.length_scale, std::max<std::int64_t>(1, std::llround(creep.window / (every * sim.time_step()))));
   }
   for (std::int64_t k = 1; k <= limit; ++k) {
     if (drive) drive(sim, static_cast<double>(k - 1) * sim.time_step());

@@ -35,15 +35,19 @@ Simulation drifting_balls() {
   return sim;
 }
 
+// The drifting balls settled with checks every kCheck up to kMaxTime.
+mfdem::railway::StageReport settle(const CreepGoal& goal, double energy_scale = kEnergyScale) {
+  Simulation sim = drifting_balls();
+  return run_until_settled(sim, "settle", 1e-3, energy_scale, kMaxTime, true, RestCriterion::kForcesAndEnergy, nullptr,
+                           0.02, kCheck, {}, goal);
+}
+
 }  // namespace
 
 TEST_CASE("the creep of drifting balls is v t over the length scale, across a periodic face too",
           "[railway][settling]") {
-  Simulation sim = drifting_balls();
   // A target below the drift's creep: the stage runs to its limit, measuring at every check.
-  const CreepGoal goal{0.5 * kSpeed * kWindow / kSize, kWindow, kSize};
-  const auto r = run_until_settled(sim, "settle", 1e-3, kEnergyScale, kMaxTime, true, RestCriterion::kForcesAndEnergy,
-                                   nullptr, 0.02, kCheck, {}, goal);
+  const auto r = settle({0.5 * kSpeed * kWindow / kSize, kWindow, kSize});
   CHECK_FALSE(r.settled);
   REQUIRE(r.check_creep.size() == r.check_time.size());
   REQUIRE(r.check_creep.size() == 50);
@@ -58,26 +62,20 @@ TEST_CASE("the creep of drifting balls is v t over the length scale, across a pe
 
 TEST_CASE("a stage ends by creep once a full window moved less than the target, and only then",
           "[railway][settling]") {
-  Simulation sim = drifting_balls();
   const CreepGoal goal{1.5 * kSpeed * kWindow / kSize, kWindow, kSize};
-  const auto r = run_until_settled(sim, "settle", 1e-3, kEnergyScale, kMaxTime, true, RestCriterion::kForcesAndEnergy,
-                                   nullptr, 0.02, kCheck, {}, goal);
+  const auto r = settle(goal);
   CHECK(r.settled);
   CHECK(r.settled_by_creep);
   // The first check at which the kept positions span the window: the window after the first check.
   CHECK(r.simulated_time == Approx(kCheck + kWindow).epsilon(1e-9));
 
   // Without a creep goal the same stage never settles (no contact: the force ratio is infinite).
-  Simulation plain = drifting_balls();
-  const auto p = run_until_settled(plain, "settle", 1e-3, kEnergyScale, kMaxTime, true, RestCriterion::kForcesAndEnergy,
-                                   nullptr, 0.02, kCheck);
+  const auto p = settle(CreepGoal{});
   CHECK_FALSE(p.settled);
   CHECK(p.check_creep.empty());
   CHECK(p.simulated_time == Approx(kMaxTime).epsilon(1e-9));
 
   // The kinetic condition still applies: with a tiny energy scale the creep alone does not end it.
-  Simulation moving = drifting_balls();
-  const auto m = run_until_settled(moving, "settle", 1e-3, 1e-20, kMaxTime, true, RestCriterion::kForcesAndEnergy,
-                                   nullptr, 0.02, kCheck, {}, goal);
+  const auto m = settle(goal, 1e-20);
   CHECK_FALSE(m.settled);
 }
