@@ -32,6 +32,16 @@ std::string verdict_line(const ModelRow& r, double tolerance) {
   if (r.reference) return "the reference";
   if (r.seeds == 0) return "no finished run";
   const int tol = static_cast<int>(std::lround(100.0 * tolerance));
+  const MeanInterval& peak_difference = r.peak_force.difference;
+  const MeanInterval& contact_difference = r.max_contact_force.difference;
+  if (peak_difference.n < 2 || contact_difference.n < 2) {
+    // No interval: say what the one seed shows, not a verdict it cannot carry.
+    const auto side = [&](double d) { return std::abs(d) <= tolerance ? "within" : "outside"; };
+    return fmt::format("one seed, no interval: on it the peak force differs by {:+.1f} % ({} {} %), the contact "
+                       "force by {:+.1f} % ({}); more seeds would tell whether it holds",
+                       100.0 * peak_difference.mean, side(peak_difference.mean), tol,
+                       100.0 * contact_difference.mean, side(contact_difference.mean));
+  }
   std::string line;
   if (r.peak_verdict == Verdict::within && r.contact_verdict == Verdict::within)
     line = fmt::format("within {} % on both outputs", tol);

@@ -1,6 +1,7 @@
 #include "studies/campaigns/push_runs.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <toml++/toml.h>
 
 #include <chrono>
@@ -15,6 +16,7 @@
 #include "studies/railway/model_bed.hpp"
 #include "studies/railway/preparation_checkpoint.hpp"
 #include "studies/railway/push_study.hpp"
+#include "studies/scene/progress.hpp"
 
 namespace mfdem::campaigns {
 namespace {
@@ -195,6 +197,7 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
   return store.ensure(
       key, context.revision,
       [&](const fs::path& work) {
+        const scene::ProgressMirror mirror(work / kRunProgressFile);  // for running_runs
         const fs::path deposition = ensure_deposition(store, config, seed);
         std::ostringstream ignored;
         std::ostream& out = context.quiet ? static_cast<std::ostream&>(ignored) : std::cout;
@@ -256,6 +259,18 @@ runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::Pu
         return record;
       },
       store_error);
+}
+
+std::string running_runs(const runs::RunStore& store) {
+  std::vector<std::string> parts;
+  for (const auto& run : store.in_progress()) {
+    const std::string line = scene::read_progress_mirror(run.work / kRunProgressFile);
+    if (line.empty()) continue;  // a shared input, or a run that has not reported yet
+    // The key without its hash: seed and model are what a reader wants.
+    const auto dash = run.key.rfind('-');
+    parts.push_back(fmt::format("{} {}", dash == std::string::npos ? run.key : run.key.substr(0, dash), line));
+  }
+  return fmt::format("{}", fmt::join(parts, ", "));
 }
 
 }  // namespace mfdem::campaigns

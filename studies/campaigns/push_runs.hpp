@@ -67,6 +67,12 @@ struct RunContext {
 runs::RunStore::Outcome ensure_push_run(runs::RunStore& store, const railway::PushStudyConfig& config,
                                         const Model& model, std::uint64_t seed, const RunContext& context);
 
+// What the runs being computed in the store are doing, from the line each writes while it runs
+// (scene::ProgressMirror into this file of its work folder): "s1-all-clump settle 34 %, ...";
+// empty when none runs. A study's reporting process shows it while its runs compute.
+inline constexpr const char* kRunProgressFile = "progress.txt";
+std::string running_runs(const runs::RunStore& store);
+
 // Names of the numbers a push run records (run.toml [numbers]), for readers of the store.
 namespace number {
 inline constexpr const char* kPeakForce = "peak_force";                  // N

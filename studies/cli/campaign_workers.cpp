@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "studies/campaigns/push_runs.hpp"
+
 extern char** environ;
 
 namespace mfdem::cli {
@@ -70,6 +72,11 @@ void add_jobs_options(CLI::App& command, int& jobs, bool& worker) {
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   command.add_flag("--worker", worker)->group("");  // a process of --jobs: runs its slice, writes no tables
+}
+
+std::string campaign_progress_detail(const runs::RunStore& store, const std::string& counted) {
+  const std::string running = campaigns::running_runs(store);
+  return running.empty() ? counted : fmt::format("{}; running: {}", counted, running);
 }
 
 }  // namespace mfdem::cli

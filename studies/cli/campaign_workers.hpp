@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "studies/campaigns/run_slice.hpp"
+#include "studies/runs/run_store.hpp"
 
 namespace mfdem::cli {
 
@@ -30,6 +31,10 @@ void wait_for_workers(const std::vector<pid_t>& workers, const std::function<voi
 void run_with_jobs(int jobs, const std::vector<std::string>& args, const std::filesystem::path& out,
                    const campaigns::RunSlice& own, const std::function<void(const campaigns::RunSlice&)>& run,
                    const std::function<void()>& poll);
+
+// The detail of a campaign's progress line: `counted` ("3 of 8 runs in the store") and what the
+// runs being computed in the store do ("; running: s1-all-clump settle 34 %").
+std::string campaign_progress_detail(const runs::RunStore& store, const std::string& counted);
 
 // --jobs on a campaign command, and the hidden --worker flag its workers are started with.
 void add_jobs_options(CLI::App& command, int& jobs, bool& worker);

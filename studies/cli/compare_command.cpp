@@ -11,6 +11,7 @@
 #include "studies/campaigns/compare_figures.hpp"
 #include "studies/cli/campaign_share.hpp"
 #include "studies/cli/campaign_workers.hpp"
+#include "studies/cli/periodic_report.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -108,14 +109,17 @@ int compare(CompareOptions o) {
                o.jobs > 1 ? "s" : "", o.common.threads, o.common.threads > 1 ? "s" : "");
   // The ETA counts runs: a study's runs cost alike within a factor of a few (models differ).
   scene::Progress progress("compare", double(total - done_before), o.common.quiet);
-  const auto report = [&](int done) {
-    progress.update(double(done - done_before), fmt::format("{} of {} runs in the store", done, total));
-  };
-  if (o.jobs > 1 && done_before < total) {
-    wait_for_workers(spawn_workers(o, std::min(o.jobs, total - done_before)), [&] { report(done_in_store()); });
+  {
+    PeriodicReport report([&] {
+      const int done = done_in_store();
+      progress.update(double(done - done_before),
+                      campaign_progress_detail(store, fmt::format("{} of {} runs in the store", done, total)));
+    }, !o.common.quiet);
+    if (o.jobs > 1 && done_before < total)
+      wait_for_workers(spawn_workers(o, std::min(o.jobs, total - done_before)), [&] { report.now(); });
+    // This process then (or alone) runs whatever is left: a worker's run that failed to start.
+    campaigns::run_compare(store, request, context, [&] { report.now(); }, 0, share.slice);
   }
-  // This process then (or alone) runs whatever is left: a worker's run that failed to start.
-  campaigns::run_compare(store, request, context, [&] { report(done_in_store()); }, 0, share.slice);
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables()) return 0;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <atomic>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/campaign_share.hpp"
 #include "studies/cli/campaign_workers.hpp"
+#include "studies/cli/periodic_report.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -94,15 +96,24 @@ int stats(StatsOptions o) {
   // The ETA counts runs; with --until-width the plan is the budget, an upper bound.
   scene::Progress progress("stats", double(planned), o.common.quiet);
   std::vector<std::uint64_t> seeds;
-  run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice, [&](const campaigns::RunSlice& slice) {
-    request.slice = slice;
-    seeds = campaigns::run_stats(
-        store, request,
-        [&](const campaigns::Model& model, std::uint64_t seed) {
-          campaigns::ensure_push_run(store, request.config, model, seed, context);
-        },
-        [&](std::size_t done, std::size_t) { progress.update(double(done), fmt::format("{} runs made or found", done)); });
-  }, {});
+  {
+    std::atomic<std::size_t> done{0};
+    PeriodicReport report([&] {
+      progress.update(double(done), campaign_progress_detail(store, fmt::format("{} runs made or found", done.load())));
+    }, !o.common.quiet);
+    run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice, [&](const campaigns::RunSlice& slice) {
+      request.slice = slice;
+      seeds = campaigns::run_stats(
+          store, request,
+          [&](const campaigns::Model& model, std::uint64_t seed) {
+            campaigns::ensure_push_run(store, request.config, model, seed, context);
+          },
+          [&](std::size_t made, std::size_t) {
+            done = made;
+            report.now();
+          });
+    }, [&] { report.now(); });
+  }
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables() || o.worker) return 0;

@@ -10,6 +10,7 @@
 #include "studies/cli/campaign_runs.hpp"
 #include "studies/cli/campaign_share.hpp"
 #include "studies/cli/campaign_workers.hpp"
+#include "studies/cli/periodic_report.hpp"
 #include "studies/cli/common_options.hpp"
 #include "studies/cli/python_figures.hpp"
 #include "studies/cli/subcommands.hpp"
@@ -80,13 +81,16 @@ int trade(TradeOptions o) {
     return static_cast<std::size_t>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
   };
   scene::Progress progress("trade", double(total), o.common.quiet);
-  const auto report = [&] {
-    const std::size_t done = in_store();
-    progress.update(double(done), fmt::format("{} of {} runs in the store", done, total));
-  };
-  run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice,
-                [&](const campaigns::RunSlice& slice) { campaigns::run_compare(store, plan.compare, context, report, 0, slice); },
-                report);
+  {
+    PeriodicReport report([&] {
+      const std::size_t done = in_store();
+      progress.update(double(done), campaign_progress_detail(store, fmt::format("{} of {} runs in the store", done, total)));
+    }, !o.common.quiet);
+    const auto now = [&] { report.now(); };
+    run_with_jobs(o.jobs, worker_args(o), o.common.out, share.slice,
+                  [&](const campaigns::RunSlice& slice) { campaigns::run_compare(store, plan.compare, context, now, 0, slice); },
+                  now);
+  }
   progress.finish();
   if (share.mpi) wait_for_all_ranks();
   if (!share.writes_tables() || o.worker) return 0;

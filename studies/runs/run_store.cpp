@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +40,25 @@ struct Owner {
 };
 
 Owner this_process() { return {host_name(), static_cast<long>(getpid())}; }
+
+// A work folder's name, KEY.HOST.PID (work_folder): its key and owner.
+struct WorkName {
+  std::string key;
+  Owner owner;
+};
+std::optional<WorkName> parse_work_name(const std::string& name) {
+  const auto last = name.rfind('.');
+  if (last == std::string::npos || last == 0) return std::nullopt;
+  const auto before = name.rfind('.', last - 1);
+  if (before == std::string::npos) return std::nullopt;
+  WorkName parsed{name.substr(0, before), {name.substr(before + 1, last - before - 1), 0}};
+  try {
+    parsed.owner.pid = std::stol(name.substr(last + 1));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  return parsed;
+}
 
 // A claim file holds "HOST PID".
 Owner claim_owner(const fs::path& file) {
@@ -335,22 +355,23 @@ void RunStore::write_index() const {
 
 void RunStore::forget(const std::string& key) const { fs::remove_all(run_folder(key)); }
 
+std::vector<RunStore::RunInProgress> RunStore::in_progress() const {
+  std::vector<RunInProgress> found;
+  std::error_code gone;  // a run may be published while the folder is read
+  for (const auto& entry : fs::directory_iterator(root_ / "work", gone)) {
+    if (const auto parsed = parse_work_name(entry.path().filename().string()))
+      found.push_back({parsed->key, entry.path()});
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+  return found;
+}
+
 int RunStore::clear_abandoned() const {
   int cleared = 0;
   // work/KEY.HOST.PID and claims/KEY ("HOST PID" inside) of this host's dead processes.
   for (const auto& entry : fs::directory_iterator(root_ / "work")) {
-    const std::string name = entry.path().filename().string();
-    const auto last = name.rfind('.');
-    if (last == std::string::npos) continue;
-    const auto before = name.rfind('.', last - 1);
-    if (before == std::string::npos) continue;
-    Owner owner{name.substr(before + 1, last - before - 1), 0};
-    try {
-      owner.pid = std::stol(name.substr(last + 1));
-    } catch (const std::exception&) {
-      continue;
-    }
-    if (dead_here(owner)) cleared += fs::remove_all(entry.path()) > 0 ? 1 : 0;
+    const auto parsed = parse_work_name(entry.path().filename().string());
+    if (parsed && dead_here(parsed->owner)) cleared += fs::remove_all(entry.path()) > 0 ? 1 : 0;
   }
   for (const auto& entry : fs::directory_iterator(root_ / "claims"))
     if (dead_here(claim_owner(entry.path()))) cleared += fs::remove(entry.path()) ? 1 : 0;

@@ -93,6 +93,13 @@ class RunStore {
   void write_index() const;
   // Removes a failed run's folder so that it is computed again.
   void forget(const std::string& key) const;
+  // The runs (and shared inputs, "shared.KEY") being computed now by any process, in key order:
+  // their keys and private work folders.
+  struct RunInProgress {
+    std::string key;
+    std::filesystem::path work;
+  };
+  std::vector<RunInProgress> in_progress() const;
   // Removes the work folders and claims this host's dead processes left; returns how many.
   int clear_abandoned() const;
 

@@ -83,6 +83,10 @@ TEST_CASE("compare: the same table on 1 and 2 threads and with two processes, an
     CHECK(fields[column] == "0");
     CHECK(fields[column + 1].empty());
   }
+  // One seed carries no verdict on an interval: the verdict says what that seed shows.
+  CHECK_THAT(text_of(one + "/compare.md"),
+             Contains("one seed, no interval: on it the peak force differs by +0.0 % (within 5 %), the contact force "
+                      "by +0.0 % (within)"));
   const mfdem::runs::RunStore store(one);
   const auto records = store.records();
   REQUIRE(records.size() == 3);
