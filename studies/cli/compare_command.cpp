@@ -99,9 +99,7 @@ int compare(CompareOptions o) {
     for (const auto& key : keys)
       if (const auto record = store.find(key); record && !record->finished()) store.forget(key);
   // Polled every second while workers run: folder lookups only, no record is read.
-  const auto done_in_store = [&] {
-    return static_cast<int>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
-  };
+  const auto done_in_store = [&] { return static_cast<int>(store.count_published(keys)); };
   const int done_before = done_in_store();
   if (!o.common.quiet)
     fmt::print(std::cerr, "compare: {} models x {} seeds = {} runs, {} already in {}; {} job{} of {} thread{}\n",

@@ -77,9 +77,7 @@ int trade(TradeOptions o) {
       if (!s.refused.empty()) fmt::print(std::cerr, "  {} is refused before it runs: {}\n", s.label, s.refused);
   }
   const auto keys = campaigns::run_keys(plan.compare);
-  const auto in_store = [&] {
-    return static_cast<std::size_t>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return store.has(k); }));
-  };
+  const auto in_store = [&] { return store.count_published(keys); };
   scene::Progress progress("trade", double(total), o.common.quiet);
   {
     PeriodicReport report([&] {

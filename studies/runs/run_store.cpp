@@ -198,6 +198,10 @@ fs::path RunStore::work_folder(const std::string& key) const {
 
 bool RunStore::has(const std::string& key) const { return fs::exists(run_folder(key) / "run.toml"); }
 
+std::size_t RunStore::count_published(const std::vector<std::string>& keys) const {
+  return static_cast<std::size_t>(std::count_if(keys.begin(), keys.end(), [&](const auto& k) { return has(k); }));
+}
+
 std::optional<RunRecord> RunStore::find(const std::string& key) const {
   if (!has(key)) return std::nullopt;
   return read_record(run_folder(key) / "run.toml");

@@ -64,6 +64,8 @@ class RunStore {
   std::optional<RunRecord> find(const std::string& key) const;
   // Whether `key` is published (finished or failed), without reading its record.
   bool has(const std::string& key) const;
+  // How many of `keys` are published (finished or failed): folder lookups only.
+  std::size_t count_published(const std::vector<std::string>& keys) const;
 
   enum class Outcome { computed, found, busy };
   // The run `key`: found when published; busy when another live process has claimed it;

@@ -42,12 +42,16 @@ void write_mirror(const std::string& label, double fraction) {
 
 }  // namespace
 
-ProgressMirror::ProgressMirror(std::filesystem::path file) { active_mirror = Mirror{std::move(file), {}, {}, false}; }
+ProgressMirror::ProgressMirror(std::filesystem::path file) {
+  if (active_mirror) replaced_ = active_mirror->file;
+  active_mirror = Mirror{std::move(file), {}, {}, false};
+}
 
 ProgressMirror::~ProgressMirror() {
   std::error_code ignored;
-  std::filesystem::remove(active_mirror->file, ignored);
+  if (active_mirror) std::filesystem::remove(active_mirror->file, ignored);
   active_mirror.reset();
+  if (replaced_) active_mirror = Mirror{*replaced_, {}, {}, false};
 }
 
 std::string read_progress_mirror(const std::filesystem::path& file) {

@@ -3,6 +3,7 @@
 // a new line at most every 30 s into a file or a pipe (a log stays readable).
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace mfdem::scene {
@@ -36,6 +37,9 @@ class ProgressMirror {
   ~ProgressMirror();
   ProgressMirror(const ProgressMirror&) = delete;
   ProgressMirror& operator=(const ProgressMirror&) = delete;
+
+ private:
+  std::optional<std::filesystem::path> replaced_;  // the mirror active before this one, restored after
 };
 
 // The line a mirror last wrote to `file`; empty when there is none.

@@ -33,3 +33,20 @@ TEST_CASE("a quiet stage made while a mirror lives writes its line to the mirror
   CHECK_FALSE(std::filesystem::exists(file));  // the run is over: no stale line
   CHECK(read_progress_mirror(file).empty());
 }
+
+TEST_CASE("a mirror made inside another gives the line back to the outer one when it ends", "[scene][progress]") {
+  const mfdem::test::TempDir dir;
+  const auto outer_file = dir.path() / "outer.txt", inner_file = dir.path() / "inner.txt";
+  const ProgressMirror outer(outer_file);
+  {
+    const ProgressMirror inner(inner_file);
+    Progress stage("tamp", 1.0, true);
+    stage.update(0.5);
+    CHECK(read_progress_mirror(inner_file) == "tamp 50 %");
+    CHECK(read_progress_mirror(outer_file).empty());
+  }
+  CHECK_FALSE(std::filesystem::exists(inner_file));
+  Progress push("push", 1.0, true);
+  push.update(0.2);
+  CHECK(read_progress_mirror(outer_file) == "push 20 %");
+}
