@@ -14,11 +14,15 @@ struct Lightest {
   bool present = false;
   double inverse_mass = 0.0;              // 1/m, 1/kg
   double inverse_tangential_mass = 0.0;   // 1/m + r^2/I
-  double inverse_inertia = 0.0;           // 1/I
-  double radius = 0.0;
-  double lever_over_inertia = 0.0;        // |lever| / I_min, 1/(kg m)
+  double radius = 0.0;                    // largest element radius
   bool spheres_only = true;               // every body a sphere: its lever along the contact normal
   Index bodies = 0, last_body = -1;       // bodies with elements of the material (elements of a body are contiguous)
+  // Per partner (a material's index, or the number of materials for a wall): the largest of the
+  // rolling spring's share Rbar^2 / I_min and of its coupling Rbar |lever| / I_min over the
+  // elements, Rbar = r r' / (r + r') taken with the partner's largest radius r' (r on a wall). Per
+  // element, not the largest radius with the lightest inertia: on a graded bed (radii 1:4) that
+  // pairing overstated the rolling mode 3.7-fold.
+  std::vector<double> rolling_share, rolling_coupling;
 };
 
 double damped_factor(double beta) { return std::sqrt(1.0 + beta * beta) - beta; }
@@ -52,10 +56,21 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     l.inverse_mass = std::max(l.inverse_mass, inv_mass);
     l.inverse_tangential_mass =
         std::max(l.inverse_tangential_mass, inv_mass + turning);
-    l.inverse_inertia = std::max(l.inverse_inertia, inv_inertia);
     l.radius = std::max(l.radius, elements.radius[e]);
-    l.lever_over_inertia = std::max(l.lever_over_inertia, lever * inv_inertia);
     if (!elements.offset[e].isZero() || inertia.maxCoeff() != inertia.minCoeff()) l.spheres_only = false;
+  }
+  for (Lightest& l : light) l.rolling_share.assign(nm + 1, 0.0), l.rolling_coupling.assign(nm + 1, 0.0);
+  for (Index e = 0; e < elements.size(); ++e) {
+    const double r = elements.radius[e];
+    const double inv_inertia = 1.0 / bodies.inertia[elements.body[e]].minCoeff();
+    const double lever = r + elements.offset[e].norm();
+    Lightest& l = light[elements.material[e]];
+    for (int partner = 0; partner <= nm; ++partner) {
+      if (partner < nm && !light[partner].present) continue;
+      const double rbar = partner < nm ? r * light[partner].radius / (r + light[partner].radius) : r;
+      l.rolling_share[partner] = std::max(l.rolling_share[partner], rbar * rbar * inv_inertia);
+      l.rolling_coupling[partner] = std::max(l.rolling_coupling[partner], rbar * lever * inv_inertia);
+    }
   }
 
   TimeStepLimit best{std::numeric_limits<double>::infinity(), "no contacts possible"};
@@ -66,13 +81,12 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     const double dt = 2.0 / std::sqrt(omega2) * damped_factor(beta);
     if (dt < into.limit) into = {dt, what};
   };
-  auto consider_pair = [&](TimeStepLimit& into, const PairParameters& p, const Lightest& a, const Lightest* b,
-                           const std::string& label) {
-    // b == nullptr: a wall (infinite mass, no rotation).
+  auto consider_pair = [&](TimeStepLimit& into, const PairParameters& p, int ma, int mb, const std::string& label) {
+    // mb == nm: a wall (infinite mass, no rotation).
+    const Lightest& a = light[ma];
+    const Lightest* b = mb < nm ? &light[mb] : nullptr;
     const double inv_m = a.inverse_mass + (b ? b->inverse_mass : 0.0);
     const double inv_mt = a.inverse_tangential_mass + (b ? b->inverse_tangential_mass : 0.0);
-    const double rbar = b ? a.radius * b->radius / (a.radius + b->radius) : a.radius;
-    const double inv_i = a.inverse_inertia + (b ? b->inverse_inertia : 0.0);
     consider(into, p.normal_stiffness * inv_m, p.damping_ratio,
              fmt::format("normal spring of {} (kn = {:.3g} N/m, lightest m_eff = {:.3g} kg)",
                          label, p.normal_stiffness, 1.0 / inv_m));
@@ -82,20 +96,20 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
     // M^-1/2 x the pair's stiffness is ks s s^T + kr t t^T (s the shear spring's direction, t the
     // rolling spring's, kr = ks Rbar^2), whose largest eigenvalue is that of the 2 x 2 matrix
     // [[A, C], [C, B]]: A = ks s.s (the shear mode), B = kr t.t (the rolling mode),
-    // C = sqrt(ks kr) s.t. For spheres s.t = r_b / I_b - r_a / I_a (both spin the contact the same
-    // way, the rolling spring takes their difference), so |s.t| <= max(r / I), and 0 for equal
-    // spheres: the two modes hardly couple. For clumps only |s.t| <= sqrt(s.s t.t) is known,
-    // which gives A + B. The eigenvalue grows with A, B and |C|, so the lightest bodies' values
-    // bound every pair of the materials.
+    // C = sqrt(ks kr) s.t. B = ks (Rbar^2 / I_a + Rbar^2 / I_b) is bounded by the two materials'
+    // rolling shares. For spheres C = ks Rbar (r_b / I_b - r_a / I_a) (both spin the contact the
+    // same way, the rolling spring takes their difference), so |C| <= ks max(Rbar r / I), the
+    // larger rolling coupling, and 0 for equal spheres: the two modes hardly couple. For clumps
+    // only |C| <= sqrt(A B) is known, which gives A + B. The eigenvalue grows with A, B and |C|, so
+    // these bounds over the elements bound every pair of the materials.
     if (p.rolling_friction > 0.0) {
-      const double kr = p.shear_stiffness * rbar * rbar;
-      const double shear_mode = p.shear_stiffness * inv_mt, rolling_mode = kr * inv_i;
+      const double shear_mode = p.shear_stiffness * inv_mt;
+      const double rolling_mode = p.shear_stiffness * (a.rolling_share[mb] + (b ? b->rolling_share[ma] : 0.0));
       double coupled = shear_mode + rolling_mode;
       if (a.spheres_only && (!b || b->spheres_only)) {
-        const double cross = std::max(a.lever_over_inertia, b ? b->lever_over_inertia : 0.0);
-        const double c2 = p.shear_stiffness * kr * cross * cross;
+        const double cross = p.shear_stiffness * std::max(a.rolling_coupling[mb], b ? b->rolling_coupling[ma] : 0.0);
         const double gap = shear_mode - rolling_mode;
-        coupled = 0.5 * (shear_mode + rolling_mode + std::sqrt(gap * gap + 4.0 * c2));
+        coupled = 0.5 * (shear_mode + rolling_mode + std::sqrt(gap * gap + 4.0 * cross * cross));
       }
       consider(into, coupled, p.damping_ratio,
                fmt::format("coupled shear and rolling springs of {} (ks = {:.3g} N/m, "
@@ -110,12 +124,12 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
       if (!light[b].present) continue;
       // A lone body of a material never touches its like: its pair only sets the fallback.
       const bool possible = b != a || light[a].bodies >= 2;
-      consider_pair(possible ? best : fallback, materials.pair(a, b), light[a], &light[b],
+      consider_pair(possible ? best : fallback, materials.pair(a, b), a, b,
                     materials[a].name + "-" + materials[b].name +
                         (possible ? " contacts" : " contacts, which cannot occur"));
     }
     for (const auto& w : walls)
-      consider_pair(best, materials.pair(a, w.material), light[a], nullptr,
+      consider_pair(best, materials.pair(a, w.material), a, nm,
                     materials[a].name + " on wall '" + w.name + "'");
   }
   if (!std::isfinite(best.limit) && std::isfinite(fallback.limit)) {

@@ -2,12 +2,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -20,21 +21,28 @@ namespace mfdem::cli {
 
 namespace fs = std::filesystem;
 
-pid_t spawn_worker(const std::vector<std::string>& args, const fs::path& log, int number) {
+pid_t spawn_worker(const std::vector<std::string>& args, const fs::path& log, int number, const char* executable) {
   std::vector<std::string> all = args;
   all.insert(all.begin(), "mfdem");
   std::vector<char*> argv;
   for (auto& a : all) argv.push_back(a.data());
   argv.push_back(nullptr);
   fs::create_directories(log.parent_path());
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int error = posix_spawn(&pid, "/proc/self/exe", &files, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&files);
-  if (error != 0) throw std::runtime_error(fmt::format("could not start worker {} of --jobs ({})", number, error));
+  const std::string log_name = log.string();
+  const pid_t parent = getpid();
+  // fork and exec rather than posix_spawn, for the one call between them: the worker gets SIGTERM
+  // when this process ends, however it ends (a `kill` of the study once left its workers computing
+  // for an hour, unseen). Only async-signal-safe calls follow the fork.
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(fmt::format("could not start worker {} of --jobs (fork: errno {})", number, errno));
+  if (pid == 0) {
+    if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) _exit(127);  // the parent already gone
+    const int fd = open(log_name.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0 || dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0) _exit(127);
+    close(fd);
+    execve(executable, argv.data(), environ);
+    _exit(127);
+  }
   return pid;
 }
 

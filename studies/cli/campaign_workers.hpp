@@ -15,9 +15,11 @@
 
 namespace mfdem::cli {
 
-// mfdem (this executable) with `args`, its output into `log`; throws naming worker `number` when
-// it cannot be started.
-pid_t spawn_worker(const std::vector<std::string>& args, const std::filesystem::path& log, int number);
+// mfdem (this executable, or `executable`) with `args`, its output into `log`; throws naming worker
+// `number` when it cannot be started. The worker is sent SIGTERM when this process ends, however
+// it ends, so no worker computes on unseen after its study was stopped.
+pid_t spawn_worker(const std::vector<std::string>& args, const std::filesystem::path& log, int number,
+                   const char* executable = "/proc/self/exe");
 
 // Waits for every worker, calling `poll` about once a second meanwhile.
 void wait_for_workers(const std::vector<pid_t>& workers, const std::function<void()>& poll);

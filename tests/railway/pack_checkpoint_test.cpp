@@ -16,6 +16,8 @@
 
 #include "studies/railway/bed_preparation.hpp"
 #include "studies/railway/compaction_stages.hpp"
+#include "studies/railway/preparation_checkpoint.hpp"
+#include "studies/railway/preparation_stage.hpp"
 #include "tests/railway/tiny_bed.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -111,6 +113,39 @@ TEST_CASE("a preparation stopped after its stages and resumed is bitwise the uni
     CHECK(last.stages[k].check_force_ratio == whole.stages[k].check_force_ratio);
     CHECK(last.stages[k].check_sleeper_base == whole.stages[k].check_sleeper_base);
   }
+}
+
+TEST_CASE("a checkpoint holds the sleeper where the last stage left it, with the stones that followed it",
+          "[railway][checkpoint]") {
+  // A sleeper that sank in the consolidation has stones on its top that followed it down. Its
+  // checkpoint was once written with the sleeper at its design place: those stones then overlapped
+  // it and the writing failed ("the bodies as given ... overlaps a wall"), study zone d 0.1.
+  // Here the bed is moved the other way: the sleeper 40 mm up, one stone in the room it left.
+  const test::TempDir dir;
+  const railway::PushStudyConfig config = staged_config();
+  railway::PreparationReport first, loaded;
+  const auto tamped = dir.path() / "tamped.h5";
+  REQUIRE_FALSE(run(config, tamped, false, "tamp", first));
+  std::string next;
+  railway::BedBetweenStages bed = railway::load_checkpoint(tamped, config, railway::CheckpointUse::kResume, loaded, next);
+  REQUIRE(next == "consolidate");
+  const dem::RigidBox design = railway::sleeper_box(config.geometry);
+  bed.sleeper_centre = design.centre + dem::Vec3(0, 0, 0.04);
+  const double r = bed.stones[0].pebbles[0].radius;
+  REQUIRE(bed.stones[0].pebbles.size() == 1);
+  bed.stones[0].position = bed.sleeper_centre - dem::Vec3(0, 0, design.half_extent.z() + 0.9 * r);
+  bed.stones[0].velocity = bed.stones[0].angular_velocity = dem::Vec3::Zero();
+  // The stone lies inside the design box, and touches the moved one by 0.1 of its radius.
+  const auto at_design = dem::sphere_box_contact(bed.stones[0].position, r, design.centre, design.half_extent);
+  REQUIRE(at_design);
+  REQUIRE(at_design->overlap > r);
+  railway::StageSetup setup;
+  setup.sleeper = design;  // the box the next stage starts with, at its design place
+  const auto moved = dir.path() / "moved.h5";
+  REQUIRE_NOTHROW(railway::save_checkpoint(moved, config, bed, setup, loaded, "consolidate"));
+  const railway::Packing saved = railway::load_packing(moved);
+  CHECK(saved.sleeper.centre == bed.sleeper_centre);
+  CHECK(saved.bodies[0].position == bed.stones[0].position);
 }
 
 TEST_CASE("a checkpoint is refused for another seed, another config or a stage not run", "[railway][checkpoint]") {
