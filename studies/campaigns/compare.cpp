@@ -192,7 +192,8 @@ CompareTable compare_table(const runs::RunStore& store, const CompareRequest& re
     const auto output = [&](const char* name) {
       OutputRow o;
       o.mean = finite_mean(values(m, name));
-      o.difference = mean_interval(relative_differences(values(m, name), values(ref, name)));
+      o.per_seed = relative_differences(values(m, name), values(ref, name));
+      o.difference = mean_interval(o.per_seed);
       return o;
     };
     row.peak_force = output(number::kPeakForce);
@@ -318,7 +319,12 @@ void write_compare_csv(const fs::path& file, const CompareTable& t) {
   for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
     out << fmt::format(",{0}_N,{0}_diff,{0}_diff_low,{0}_diff_high", o);
   out << ",curve_nrms,curve_nrms_low,curve_nrms_high,peak_verdict,contact_verdict,time_step_s,steps,"
-         "contacts_per_element,element_steps_per_s,relative_step_cost\n";
+         "contacts_per_element,element_steps_per_s,relative_step_cost";
+  // Each seed's paired difference, space-separated in one field: with few seeds they say more
+  // than an interval with n - 1 degrees of freedom (the speedup-error figure draws them).
+  for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
+    out << fmt::format(",{}_diff_per_seed", o);
+  out << '\n';
   const auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
   for (const auto& r : t.rows) {
     out << fmt::format("\"{}\",{},{},{},{},{},{},{},{},{},{},{}", r.model, r.reference ? 1 : 0, r.seeds, r.failed,
@@ -329,8 +335,14 @@ void write_compare_csv(const fs::path& file, const CompareTable& t) {
                          g(o->difference.high()));
     out << fmt::format(",{},{},{},{},{}", g(r.curve_difference.mean), g(r.curve_difference.low()),
                        g(r.curve_difference.high()), verdict_text(r.peak_verdict), verdict_text(r.contact_verdict));
-    out << fmt::format(",{},{},{},{},{}\n", g(r.time_step), g(r.steps), g(r.contacts_per_element),
+    out << fmt::format(",{},{},{},{},{}", g(r.time_step), g(r.steps), g(r.contacts_per_element),
                        g(r.element_steps_per_second), g(r.relative_step_cost));
+    for (const OutputRow* o : {&r.peak_force, &r.max_contact_force, &r.contact_force_q999, &r.mean_force}) {
+      std::vector<std::string> seeds;
+      for (double d : o->per_seed) seeds.push_back(g(d));
+      out << fmt::format(",{}", fmt::join(seeds, " "));
+    }
+    out << '\n';
   }
 }
 

@@ -75,13 +75,18 @@ TEST_CASE("compare: the same table on 1 and 2 threads and with two processes, an
   std::getline(rows, same);
   CHECK_THAT(same, Contains("layer-by-height:h=0"));
   const std::vector<std::string> fields = csv_fields(same);
-  REQUIRE(fields.size() == 38);
+  REQUIRE(fields.size() == 42);
   // The paired differences of the four outputs (columns 13, 17, 21, 25) and the F(u) NRMS (28):
   // exactly 0; with one seed, no interval (its bounds empty).
   for (std::size_t column : {13u, 17u, 21u, 25u, 28u}) {
     CAPTURE(column);
     CHECK(fields[column] == "0");
     CHECK(fields[column + 1].empty());
+  }
+  // Each seed's difference of the four outputs (38-41): the one seed's, 0.
+  for (std::size_t column : {38u, 39u, 40u, 41u}) {
+    CAPTURE(column);
+    CHECK(fields[column] == "0");
   }
   // One seed carries no verdict on an interval: the verdict says what that seed shows.
   CHECK_THAT(text_of(one + "/compare.md"),

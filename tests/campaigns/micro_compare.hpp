@@ -27,14 +27,15 @@ inline std::string text_of(const std::filesystem::path& file) {
 
 // compare.csv without the wall-time columns (8-11: preparation, push, the two speedups; 36-37:
 // element-steps per second and the relative cost per element-step), which differ from run to
-// run; every other number is the simulation's and must repeat bitwise.
+// run; every other number (the per-seed differences of 38-41 too) is the simulation's and must
+// repeat bitwise.
 inline std::string without_wall_times(const std::string& csv) {
   std::stringstream in(csv), out;
   for (std::string line; std::getline(in, line);) {
     std::stringstream fields(line);
     int column = 0;
     for (std::string field; std::getline(fields, field, ',');) {
-      if ((column < 8 || column > 11) && column < 36) out << field << ',';
+      if ((column < 8 || column > 11) && (column < 36 || column > 37)) out << field << ',';
       ++column;
     }
     out << '\n';

@@ -116,12 +116,18 @@ def speedup_error(rows, config, seeds, out, quiet, tolerance):
             low, high = 100 * r[f"{column}_diff_low"], 100 * r[f"{column}_diff_high"]
             yerr = None if not (np.isfinite(low) and np.isfinite(high)) else [[y - low], [high - y]]
             ax.errorbar([x], [y], yerr=yerr, fmt="o", color=colour, capsize=4, ms=6, label=r["model"])
+            # Each seed's own difference: with few seeds it says more than an interval with n - 1
+            # degrees of freedom (two seeds: t = 12.7).
+            per_seed = [100 * float(v) for v in str(r.get(f"{column}_diff_per_seed") or "").split()]
+            if len(per_seed) > 1 and not r["reference"]:
+                ax.plot([x] * len(per_seed), per_seed, marker="x", ms=7, mew=1.5, color=colour, ls="none")
             # The push alone, hollow: the paper's 2.75x is of its push, which was its whole cost.
             push = r["push_speedup"]
             if np.isfinite(push) and not r["reference"]:
                 ax.plot([x, push], [y, y], color=colour, lw=0.8, ls=":")
                 ax.plot([push], [y], marker="o", ms=6, mfc="white", mec=colour, ls="none")
         ax.plot([], [], marker="o", ms=6, mfc="white", mec="0.3", ls="none", label="the same model, push alone")
+        ax.plot([], [], marker="x", ms=7, mew=1.5, color="0.3", ls="none", label="one seed's paired difference")
         ax.set_xlabel("speedup (x): the reference's wall time over the model's;\n"
                       "filled: re-settling + push, hollow: the push alone (as the paper's)")
         largest = max(max(r["total_speedup"], r["push_speedup"]) for r in rows
