@@ -34,37 +34,36 @@ TimeStepLimit critical_time_step(const Bodies& bodies, const Elements& elements,
                                  const std::vector<PlaneWall>& walls) {
   const int nm = materials.size();
   std::vector<Lightest> light(nm);
+  // First each material's largest radius: a contact's Rbar below takes the partner's.
+  for (Index e = 0; e < elements.size(); ++e) {
+    Lightest& l = light[elements.material[e]];
+    l.present = true;
+    l.radius = std::max(l.radius, elements.radius[e]);
+  }
+  for (Lightest& l : light) l.rolling_share.assign(nm + 1, 0.0), l.rolling_coupling.assign(nm + 1, 0.0);
   for (Index e = 0; e < elements.size(); ++e) {
     const Index b = elements.body[e];
     const int m = elements.material[e];
+    const double r = elements.radius[e];
     const double inv_mass = 1.0 / bodies.mass[b];
     const double inv_inertia = 1.0 / bodies.inertia[b].minCoeff();
     // A tangential impulse t at lever r turns the body by I^-1 (r x t); its inverse mass is
     // 1/m + (r x t).I^-1.(r x t). Two bounds, the smaller kept: |r|^2 / I_min (exact for a
     // sphere), and sum_k (a_i^2 + a_j^2) / I_k with a = |offset| + radius per body axis (tight
     // for a long clump, whose far pebbles turn it about its stiff axes, not its long one).
-    const double lever = elements.radius[e] + elements.offset[e].norm();
-    const Vec3 reach = elements.offset[e].cwiseAbs() + Vec3::Constant(elements.radius[e]);
+    const double lever = r + elements.offset[e].norm();
+    const Vec3 reach = elements.offset[e].cwiseAbs() + Vec3::Constant(r);
     const Vec3& inertia = bodies.inertia[b];
     const double by_axes = (reach[1] * reach[1] + reach[2] * reach[2]) / inertia[0] +
                            (reach[0] * reach[0] + reach[2] * reach[2]) / inertia[1] +
                            (reach[0] * reach[0] + reach[1] * reach[1]) / inertia[2];
     const double turning = std::min(lever * lever * inv_inertia, by_axes);
     Lightest& l = light[m];
-    l.present = true;
     if (b != l.last_body) ++l.bodies, l.last_body = b;
     l.inverse_mass = std::max(l.inverse_mass, inv_mass);
     l.inverse_tangential_mass =
         std::max(l.inverse_tangential_mass, inv_mass + turning);
-    l.radius = std::max(l.radius, elements.radius[e]);
     if (!elements.offset[e].isZero() || inertia.maxCoeff() != inertia.minCoeff()) l.spheres_only = false;
-  }
-  for (Lightest& l : light) l.rolling_share.assign(nm + 1, 0.0), l.rolling_coupling.assign(nm + 1, 0.0);
-  for (Index e = 0; e < elements.size(); ++e) {
-    const double r = elements.radius[e];
-    const double inv_inertia = 1.0 / bodies.inertia[elements.body[e]].minCoeff();
-    const double lever = r + elements.offset[e].norm();
-    Lightest& l = light[elements.material[e]];
     for (int partner = 0; partner <= nm; ++partner) {
       if (partner < nm && !light[partner].present) continue;
       const double rbar = partner < nm ? r * light[partner].radius / (r + light[partner].radius) : r;

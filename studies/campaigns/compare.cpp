@@ -8,6 +8,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "studies/config/config_error.hpp"
 #include "studies/railway/push_output.hpp"
@@ -313,33 +314,38 @@ void write_compare_markdown(const fs::path& file, const CompareTable& t) {
 }
 
 void write_compare_csv(const fs::path& file, const CompareTable& t) {
+  // The four outputs, named once for the header and the rows.
+  static constexpr std::pair<const char*, OutputRow ModelRow::*> kOutputs[] = {
+      {"peak_force", &ModelRow::peak_force},
+      {"max_contact_force", &ModelRow::max_contact_force},
+      {"contact_force_q999", &ModelRow::contact_force_q999},
+      {"mean_force", &ModelRow::mean_force}};
   std::ofstream out(file);
   out << "model,reference,seeds,failed,clumps,balls,elements,contacts_at_peak,preparation_wall_s,push_wall_s,"
          "push_speedup,total_speedup";
-  for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
-    out << fmt::format(",{0}_N,{0}_diff,{0}_diff_low,{0}_diff_high", o);
+  for (const auto& [name, member] : kOutputs) out << fmt::format(",{0}_N,{0}_diff,{0}_diff_low,{0}_diff_high", name);
   out << ",curve_nrms,curve_nrms_low,curve_nrms_high,peak_verdict,contact_verdict,time_step_s,steps,"
          "contacts_per_element,element_steps_per_s,relative_step_cost";
   // Each seed's paired difference, space-separated in one field: with few seeds they say more
   // than an interval with n - 1 degrees of freedom (the speedup-error figure draws them).
-  for (const char* o : {"peak_force", "max_contact_force", "contact_force_q999", "mean_force"})
-    out << fmt::format(",{}_diff_per_seed", o);
+  for (const auto& [name, member] : kOutputs) out << fmt::format(",{}_diff_per_seed", name);
   out << '\n';
   const auto g = [](double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string(); };
   for (const auto& r : t.rows) {
     out << fmt::format("\"{}\",{},{},{},{},{},{},{},{},{},{},{}", r.model, r.reference ? 1 : 0, r.seeds, r.failed,
                        g(r.clumps), g(r.balls), g(r.elements), g(r.contacts_at_peak), g(r.preparation_wall),
                        g(r.push_wall), g(r.push_speedup), g(r.total_speedup));
-    for (const OutputRow* o : {&r.peak_force, &r.max_contact_force, &r.contact_force_q999, &r.mean_force})
-      out << fmt::format(",{},{},{},{}", g(o->mean), g(o->difference.mean), g(o->difference.low()),
-                         g(o->difference.high()));
+    for (const auto& [name, member] : kOutputs) {
+      const OutputRow& o = r.*member;
+      out << fmt::format(",{},{},{},{}", g(o.mean), g(o.difference.mean), g(o.difference.low()), g(o.difference.high()));
+    }
     out << fmt::format(",{},{},{},{},{}", g(r.curve_difference.mean), g(r.curve_difference.low()),
                        g(r.curve_difference.high()), verdict_text(r.peak_verdict), verdict_text(r.contact_verdict));
     out << fmt::format(",{},{},{},{},{}", g(r.time_step), g(r.steps), g(r.contacts_per_element),
                        g(r.element_steps_per_second), g(r.relative_step_cost));
-    for (const OutputRow* o : {&r.peak_force, &r.max_contact_force, &r.contact_force_q999, &r.mean_force}) {
+    for (const auto& [name, member] : kOutputs) {
       std::vector<std::string> seeds;
-      for (double d : o->per_seed) seeds.push_back(g(d));
+      for (double d : (r.*member).per_seed) seeds.push_back(g(d));
       out << fmt::format(",{}", fmt::join(seeds, " "));
     }
     out << '\n';

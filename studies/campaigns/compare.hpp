@@ -51,7 +51,7 @@ void run_compare(runs::RunStore& store, const CompareRequest& request, const Run
 struct OutputRow {
   double mean = 0.0;                    // over the model's finished seeds, in the output's unit
   MeanInterval difference;              // paired relative difference from the reference
-  std::vector<double> per_seed;         // the paired relative differences behind it, in seed order
+  std::vector<double> per_seed;         // the paired differences behind it: the seeds both finished, in order
 };
 
 struct ModelRow {

@@ -108,7 +108,12 @@ void save_packing(const std::filesystem::path& path, const Packing& p) {
 
 void save_packing(const std::filesystem::path& path, const Packing& p, const StageSetup& setup,
                   const std::string& what) {
-  dem::Simulation sim = make_section_simulation(p.config, p.domain, p.bodies, setup);
+  // The sleeper is the packing's, where the bed has it; `setup` gives the other boundaries. (A
+  // checkpoint once evaluated its frame with the sleeper at its design place: one that sank in the
+  // consolidation then overlapped the clump that followed it down, and the writing failed.)
+  StageSetup boundaries = setup;
+  if (boundaries.sleeper) boundaries.sleeper = p.sleeper;
+  dem::Simulation sim = make_section_simulation(p.config, p.domain, p.bodies, boundaries);
   sim.set_initial_springs(p.springs);
   sim.prepare();  // evaluates the contact forces the frame holds; the bodies do not move
   {

@@ -76,8 +76,9 @@ std::vector<dem::ClumpSpec> body_states(const dem::Simulation& sim);
 
 // Writes `path` (and path.xdmf).
 void save_packing(const std::filesystem::path& path, const Packing& packing);
-// The same, the frame's contact forces evaluated with the boundaries of `setup` (the bed of a
-// stage before the sleeper is in: preparation_checkpoint.hpp); `what` starts the file's note.
+// The same, the frame's contact forces evaluated with the packing's sleeper (when `setup` has one)
+// and the other boundaries of `setup` (the bed of a stage before the sleeper is in:
+// preparation_checkpoint.hpp); `what` starts the file's note.
 void save_packing(const std::filesystem::path& path, const Packing& packing, const StageSetup& setup,
                   const std::string& what);
 // Adds the preparation stages' reports to a saved packing (/packing/stages).

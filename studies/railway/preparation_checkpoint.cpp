@@ -141,12 +141,7 @@ void save_checkpoint(const fs::path& path, const PushStudyConfig& config, const 
   p.continued_from = report.continued_from;  // a continued pack resumed keeps where it came from
   // Written beside and renamed over the last one: a run stopped mid-write keeps a whole file.
   const fs::path partial = partial_path(path);
-  // The frame's forces with the sleeper where the bed has it: at its design place a sleeper that
-  // sank under consolidation overlapped the stones that followed it down (a clump on its top by
-  // 0.55 of a pebble's radius, study zone d 0.1), and writing the checkpoint failed.
-  StageSetup placed = setup;
-  if (placed.sleeper) placed.sleeper->centre = bed.sleeper_centre;
-  save_packing(partial, p, placed, "preparation checkpoint before stage " + next_stage);
+  save_packing(partial, p, setup, "preparation checkpoint before stage " + next_stage);
   append_stage_reports(partial, report.stages);
   const hid_t file = H5Fopen(partial.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (file < 0) throw std::runtime_error("cannot reopen " + partial.string());
