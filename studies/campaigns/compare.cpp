@@ -109,11 +109,23 @@ std::vector<std::string> run_keys(const CompareRequest& request) {
   return keys;
 }
 
+std::vector<std::size_t> seed_order(const std::vector<bool>& seed_incomplete, std::size_t first_seed) {
+  std::vector<std::size_t> incomplete, complete;
+  for (std::size_t s = 0; s < seed_incomplete.size(); ++s) (seed_incomplete[s] ? incomplete : complete).push_back(s);
+  if (!incomplete.empty())
+    std::rotate(incomplete.begin(), incomplete.begin() + std::ptrdiff_t(first_seed % incomplete.size()), incomplete.end());
+  incomplete.insert(incomplete.end(), complete.begin(), complete.end());
+  return incomplete;
+}
+
 void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
                  const std::function<void()>& after_run, std::size_t first_seed, const RunSlice& slice) {
-  const std::size_t n = request.seeds.size(), models = request.models.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t seed = (first_seed + k) % n;
+  const std::size_t models = request.models.size();
+  const std::vector<std::string> keys = run_keys(request);
+  std::vector<bool> incomplete(request.seeds.size(), false);
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    if (!store.has(keys[k])) incomplete[k / models] = true;
+  for (const std::size_t seed : seed_order(incomplete, first_seed)) {
     for (std::size_t m = 0; m < models; ++m) {
       if (!slice.holds(seed * models + m)) continue;  // run_keys order
       ensure_push_run(store, request.config_of(m), request.models[m], request.seeds[seed], context);

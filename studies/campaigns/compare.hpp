@@ -39,11 +39,17 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text, const std::strin
 // The keys of the request's runs, seed by seed, the models of a seed in their order.
 std::vector<std::string> run_keys(const CompareRequest& request);
 
+// The order in which a process of a study visits its seeds (indices into the seed list), given
+// which seeds still miss a run: the seeds that miss one, starting at the one `first_seed` places
+// into them, then the complete ones (nothing to do there). Processes given 0, 1, ... start on
+// different unfinished seeds, so each makes its own seed's deposition instead of waiting for
+// another's (a study resumed on seeds 1-5 with 1-2 done: the second process starts on seed 4).
+std::vector<std::size_t> seed_order(const std::vector<bool>& seed_incomplete, std::size_t first_seed);
+
 // Runs every (seed, model) of the request not yet in the store, seed by seed (each seed's
-// deposition made once, its models then), starting at the seed `first_seed` places into the list
-// (so that the processes of one study start on different seeds); `after_run()` is called after
-// each (a progress line counts the store, which other processes fill too). With a slice, only the
-// runs of the slice (their places in run_keys) are made.
+// deposition made once, its models then), in the order of seed_order; `after_run()` is called
+// after each (a progress line counts the store, which other processes fill too). With a slice,
+// only the runs of the slice (their places in run_keys) are made.
 void run_compare(runs::RunStore& store, const CompareRequest& request, const RunContext& context,
                  const std::function<void()>& after_run = {}, std::size_t first_seed = 0, const RunSlice& slice = {});
 

@@ -9,6 +9,7 @@
 
 #include "studies/campaigns/compare.hpp"
 #include "studies/campaigns/compare_figures.hpp"
+#include "studies/campaigns/run_costs.hpp"
 #include "studies/cli/campaign_share.hpp"
 #include "studies/cli/campaign_workers.hpp"
 #include "studies/cli/periodic_report.hpp"
@@ -101,17 +102,29 @@ int compare(CompareOptions o) {
   // Polled every second while workers run: folder lookups only, no record is read.
   const auto done_in_store = [&] { return static_cast<int>(store.count_published(keys)); };
   const int done_before = done_in_store();
-  if (!o.common.quiet)
+  // The ETA weighs each missing run by its model's wall in the store's finished runs (models
+  // differ by a factor of three); a store without any counts runs.
+  const campaigns::RunCosts costs = campaigns::expected_run_costs(store, request);
+  std::vector<std::size_t> missing_runs;
+  for (std::size_t k = 0; k < keys.size(); ++k)
+    if (!store.has(keys[k])) missing_runs.push_back(k);
+  if (!o.common.quiet) {
     fmt::print(std::cerr, "compare: {} models x {} seeds = {} runs, {} already in {}; {} job{} of {} thread{}\n",
                request.models.size(), request.seeds.size(), total, done_before, o.common.out.string(), o.jobs,
                o.jobs > 1 ? "s" : "", o.common.threads, o.common.threads > 1 ? "s" : "");
-  // The ETA counts runs: a study's runs cost alike within a factor of a few (models differ).
-  scene::Progress progress("compare", double(total - done_before), o.common.quiet);
+    if (costs.measured && !missing_runs.empty())
+      fmt::print(std::cerr, "  expected: about {} with {} job{} (the walls of the finished runs of each model)\n",
+                 scene::format_duration(costs.missing / std::min<double>(o.jobs, double(missing_runs.size()))), o.jobs,
+                 o.jobs > 1 ? "s" : "");
+  }
+  scene::Progress progress("compare", costs.missing, o.common.quiet);
   {
     PeriodicReport report([&] {
       const int done = done_in_store();
-      progress.update(double(done - done_before),
-                      campaign_progress_detail(store, fmt::format("{} of {} runs in the store", done, total)));
+      double done_cost = 0.0;
+      for (std::size_t k : missing_runs)
+        if (store.has(keys[k])) done_cost += costs.seconds[k];
+      progress.update(done_cost, campaign_progress_detail(store, fmt::format("{} of {} runs in the store", done, total)));
     }, !o.common.quiet);
     if (o.jobs > 1 && done_before < total)
       wait_for_workers(spawn_workers(o, std::min(o.jobs, total - done_before)), [&] { report.now(); });

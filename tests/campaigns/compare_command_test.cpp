@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "studies/campaigns/compare.hpp"
 #include "studies/runs/run_store.hpp"
 #include "tests/campaigns/micro_compare.hpp"
 #include "tests/support/run_mfdem.hpp"
@@ -145,7 +146,8 @@ TEST_CASE("compare killed in the middle of a run recomputes only that run, and a
     _exit(127);
   }
   const fs::path runs = fs::path(out) / "runs";
-  for (int waited = 0; waited < 600 && (!fs::exists(runs) || fs::is_empty(runs)); ++waited)
+  // Up to 10 min: the first run takes seconds alone, minutes on a machine busy with a study.
+  for (int waited = 0; waited < 3000 && (!fs::exists(runs) || fs::is_empty(runs)); ++waited)
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   kill(child, SIGKILL);
   waitpid(child, nullptr, 0);
@@ -205,4 +207,17 @@ TEST_CASE("compare refuses an unknown model, an empty or bad seed list and a ref
   CHECK(twice.status == 2);
   CHECK_THAT(twice.err, Contains("given twice"));
   CHECK_FALSE(fs::exists(out));  // refused before the store was made
+}
+
+TEST_CASE("the processes of a resumed study start on different unfinished seeds", "[campaigns][cli]") {
+  using mfdem::campaigns::seed_order;
+  using V = std::vector<std::size_t>;
+  // Seeds 1-5 with 1 and 2 complete: the two processes of --jobs 2 start on seeds 3 and 4, not both
+  // on 3 (where the second would wait for the first's deposition); each ends with the complete ones.
+  const std::vector<bool> incomplete = {false, false, true, true, true};
+  CHECK(seed_order(incomplete, 0) == V{2, 3, 4, 0, 1});
+  CHECK(seed_order(incomplete, 1) == V{3, 4, 2, 0, 1});
+  CHECK(seed_order(incomplete, 4) == V{3, 4, 2, 0, 1});  // more processes than unfinished seeds: wraps
+  CHECK(seed_order({false, false}, 1) == V{0, 1});       // nothing left: every seed once, no division by zero
+  CHECK(seed_order({true, false, true}, 1) == V{2, 0, 1});
 }
