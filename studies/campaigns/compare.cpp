@@ -51,8 +51,23 @@ std::string verdict_line(const ModelRow& r, double tolerance) {
                        r.peak_verdict == Verdict::outside && r.contact_verdict == Verdict::outside ? "both outputs"
                        : r.peak_verdict == Verdict::outside                                       ? "the peak force"
                                                                                                   : "the contact force");
-  else
-    line = fmt::format("not decided at {} %: the intervals straddle it (more seeds would tell)", tol);
+  else {
+    // How many seeds would decide it, if the spread so far held: the larger of the two outputs'.
+    int needed = 0;
+    bool beyond = false;  // one output needs more than any campaign would run
+    for (const auto& [difference, v] : {std::pair{peak_difference, r.peak_verdict}, {contact_difference, r.contact_verdict}})
+      if (v == Verdict::undecided) {
+        const int n = seeds_to_decide(difference, tolerance);
+        if (n == 0) beyond = true;
+        needed = std::max(needed, n);
+      }
+    line = beyond ? fmt::format("not decided at {} %: the intervals straddle it, and a mean this near the band's "
+                                "edge needs more than 1000 seeds",
+                                tol)
+                  : fmt::format("not decided at {} %: the intervals straddle it (about {} seeds would decide it, if "
+                                "the spread so far holds)",
+                                tol, needed);
+  }
   const bool peak = r.peak_force.difference.resolved(), contact = r.max_contact_force.difference.resolved();
   line += peak || contact ? fmt::format("; the difference exceeds the seed-to-seed spread on {}",
                                         peak && contact ? "both" : peak ? "the peak force" : "the contact force")

@@ -47,6 +47,15 @@ Verdict verdict(const MeanInterval& d, double tolerance) {
   return Verdict::undecided;
 }
 
+int seeds_to_decide(const MeanInterval& d, double tolerance, int limit) {
+  if (d.n < 2 || !std::isfinite(d.standard_deviation)) return 0;
+  const double margin = std::abs(std::abs(d.mean) - tolerance);
+  if (!(margin > 0.0)) return 0;
+  for (int n = 2; n <= limit; ++n)
+    if (gsl_cdf_tdist_Pinv(0.975, double(n - 1)) * d.standard_deviation / std::sqrt(double(n)) < margin) return n;
+  return 0;
+}
+
 double interpolate_curve(const std::vector<double>& u, const std::vector<double>& f, double at) {
   if (u.empty() || u.size() != f.size()) throw std::invalid_argument("interpolate_curve: empty, or u and F of different lengths");
   const auto above = std::upper_bound(u.begin(), u.end(), at);

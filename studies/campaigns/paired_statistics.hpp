@@ -35,6 +35,12 @@ enum class Verdict { within, outside, undecided };
 // undecided (more seeds would tell).
 Verdict verdict(const MeanInterval& difference, double tolerance);
 
+// The number of seeds at which the interval of `difference` would decide its verdict if its mean
+// and standard deviation held: the smallest n >= 2 with t_{0.975, n-1} s / sqrt(n) below the
+// distance of the mean from the band edge, ||mean| - tolerance|. 0 when it cannot be said (fewer
+// than 2 seeds, or the mean on the edge) or would take more than `limit` seeds.
+int seeds_to_decide(const MeanInterval& difference, double tolerance, int limit = 1000);
+
 // F of a sampled curve at u = at, linearly interpolated between the samples around it (u
 // ascending), held at the first and last sample outside them.
 double interpolate_curve(const std::vector<double>& u, const std::vector<double>& f, double at);

@@ -63,6 +63,26 @@ TEST_CASE("the verdict is within, outside or undecided by where the whole interv
   CHECK(verdict(d, 0.05) == Verdict::undecided);
 }
 
+TEST_CASE("the seeds that would decide an undecided verdict, from the spread so far", "[campaigns][statistics]") {
+  MeanInterval d;
+  d.n = 2;
+  d.mean = -0.21, d.standard_deviation = 0.03;  // 16 % beyond the 5 % band
+  // n = 2: 12.706 x 0.03 / sqrt(2) = 0.270 > 0.16; n = 3: 4.303 x 0.03 / sqrt(3) = 0.075 < 0.16.
+  CHECK(seeds_to_decide(d, 0.05) == 3);
+  d.mean = 0.07, d.standard_deviation = 0.05;  // 2 % beyond the band: t / sqrt(n) < 0.4
+  // t_{0.975,25} / sqrt(26) = 2.060 / 5.099 = 0.404; t_{0.975,26} / sqrt(27) = 2.056 / 5.196 = 0.396.
+  CHECK(seeds_to_decide(d, 0.05) == 27);
+  d.mean = 0.03;  // inside the band by 2 %: the same count shows it within
+  CHECK(seeds_to_decide(d, 0.05) == 27);
+  d.mean = 0.05;  // on the edge: no number of seeds decides it
+  CHECK(seeds_to_decide(d, 0.05) == 0);
+  d.mean = 0.0501;
+  CHECK(seeds_to_decide(d, 0.05, 1000) == 0);  // would need about 10^6 seeds
+  d.n = 1;
+  d.mean = -0.21;
+  CHECK(seeds_to_decide(d, 0.05) == 0);  // one seed: no spread known
+}
+
 TEST_CASE("the normalised RMS difference of F(u) curves is 0 for equal curves and c / max F for an offset c",
           "[campaigns][statistics]") {
   std::vector<double> u, f;
