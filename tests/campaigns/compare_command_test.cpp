@@ -221,3 +221,40 @@ TEST_CASE("the processes of a resumed study start on different unfinished seeds"
   CHECK(seed_order({false, false}, 1) == V{0, 1});       // nothing left: every seed once, no division by zero
   CHECK(seed_order({true, false, true}, 1) == V{2, 0, 1});
 }
+
+TEST_CASE("an undecided model's verdict says how many seeds would decide it", "[campaigns][cli]") {
+  namespace campaigns = mfdem::campaigns;
+  campaigns::CompareTable table;
+  table.config = "study";
+  table.seeds = {1, 2, 3, 4};
+  campaigns::ModelRow reference, model;
+  reference.model = "all-clump", reference.reference = true, reference.seeds = 4;
+  model.model = "all-ball mu_r=0.3", model.seeds = 4;
+  // The all-ball row of the study preset, seeds 1-4: the peak force decided (outside), the
+  // maximum contact force +57.9 % with a standard deviation of 58.7 %: 8 seeds would place it.
+  const auto difference = [](double mean, double sd) {
+    campaigns::MeanInterval d;
+    d.n = 4, d.mean = mean, d.standard_deviation = sd, d.half_width = 3.182 * sd / 2.0;
+    return d;
+  };
+  model.peak_force.difference = difference(-0.343, 0.06);
+  model.max_contact_force.difference = difference(0.579, 0.587);
+  model.peak_verdict = campaigns::verdict(model.peak_force.difference, 0.05);
+  model.contact_verdict = campaigns::verdict(model.max_contact_force.difference, 0.05);
+  REQUIRE(model.peak_verdict == campaigns::Verdict::outside);
+  REQUIRE(model.contact_verdict == campaigns::Verdict::undecided);
+  table.rows = {reference, model};
+  std::ostringstream decided;
+  campaigns::print_compare_table(decided, table);
+  CHECK_THAT(decided.str(), Contains("outside 5 % on the peak force"));  // one output outside decides it
+
+  table.rows[1].peak_force.difference = difference(-0.06, 0.02);  // straddles -5 %: 1 % beyond the band
+  table.rows[1].peak_verdict = campaigns::verdict(table.rows[1].peak_force.difference, 0.05);
+  REQUIRE(table.rows[1].peak_verdict == campaigns::Verdict::undecided);
+  std::ostringstream undecided;
+  campaigns::print_compare_table(undecided, table);
+  // The larger of the two counts: the peak's, (2 x 0.02 / 0.01)^2 = 16 in the normal limit, 18 with t (t_{0.975,17} = 2.110).
+  CHECK(campaigns::seeds_to_decide(table.rows[1].peak_force.difference, 0.05) == 18);
+  CHECK(campaigns::seeds_to_decide(table.rows[1].max_contact_force.difference, 0.05) == 8);
+  CHECK_THAT(undecided.str(), Contains("not decided at 5 %: the intervals straddle it (about 18 seeds would decide it"));
+}
