@@ -1,16 +1,13 @@
 #include "studies/campaigns/run_costs.hpp"
 
-#include <algorithm>
+#include <gsl/gsl_statistics_double.h>
+
 #include <optional>
 
 namespace mfdem::campaigns {
 namespace {
 
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+double median_of(std::vector<double> v) { return gsl_stats_median(v.data(), 1, v.size()); }  // reorders its copy
 
 }  // namespace
 
@@ -48,7 +45,7 @@ RunCosts expected_run_costs(const runs::RunStore& store, const CompareRequest& r
       costs.seconds[k] = per_model[k % models].value_or(sum / known) + (seed_started[k / models] ? 0.0 : deposition_share);
   }
   for (std::size_t k = 0; k < keys.size(); ++k)
-    if (!published[k]) costs.missing += costs.seconds[k];
+    if (!published[k]) costs.missing_runs.push_back(k), costs.missing += costs.seconds[k];
   return costs;
 }
 

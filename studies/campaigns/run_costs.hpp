@@ -2,6 +2,7 @@
 // What a study's missing runs will cost, from the walls of the runs it has already finished: the
 // progress line of a resumed study weighs each run by its model's cost (an all-clump run of the
 // study preset costs about three all-ball runs) instead of counting runs alike.
+#include <cstddef>
 #include <vector>
 
 #include "studies/campaigns/compare.hpp"
@@ -16,7 +17,9 @@ struct RunCosts {
   // finished run of the request: the runs are then counted.
   std::vector<double> seconds;
   bool measured = false;
-  // The expected seconds of the runs not yet in the store (their sum of `seconds`).
+  // The runs not yet in the store (indices into run_keys) and their expected seconds (the sum of
+  // their `seconds`).
+  std::vector<std::size_t> missing_runs;
   double missing = 0.0;
 };
 

@@ -99,15 +99,12 @@ int compare(CompareOptions o) {
   if (o.retry_failed)
     for (const auto& key : keys)
       if (const auto record = store.find(key); record && !record->finished()) store.forget(key);
-  // Polled every second while workers run: folder lookups only, no record is read.
   const auto done_in_store = [&] { return static_cast<int>(store.count_published(keys)); };
-  const int done_before = done_in_store();
   // The ETA weighs each missing run by its model's wall in the store's finished runs (models
   // differ by a factor of three); a store without any counts runs.
   const campaigns::RunCosts costs = campaigns::expected_run_costs(store, request);
-  std::vector<std::size_t> missing_runs;
-  for (std::size_t k = 0; k < keys.size(); ++k)
-    if (!store.has(keys[k])) missing_runs.push_back(k);
+  const std::vector<std::size_t>& missing_runs = costs.missing_runs;
+  const int done_before = total - static_cast<int>(missing_runs.size());
   if (!o.common.quiet) {
     fmt::print(std::cerr, "compare: {} models x {} seeds = {} runs, {} already in {}; {} job{} of {} thread{}\n",
                request.models.size(), request.seeds.size(), total, done_before, o.common.out.string(), o.jobs,
@@ -119,11 +116,12 @@ int compare(CompareOptions o) {
   }
   scene::Progress progress("compare", costs.missing, o.common.quiet);
   {
+    // Polled every second while workers run: folder lookups of the missing runs, no record read.
     PeriodicReport report([&] {
-      const int done = done_in_store();
+      int done = done_before;
       double done_cost = 0.0;
       for (std::size_t k : missing_runs)
-        if (store.has(keys[k])) done_cost += costs.seconds[k];
+        if (store.has(keys[k])) done_cost += costs.seconds[k], ++done;
       progress.update(done_cost, campaign_progress_detail(store, fmt::format("{} of {} runs in the store", done, total)));
     }, !o.common.quiet);
     if (o.jobs > 1 && done_before < total)
